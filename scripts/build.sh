@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Installs dependencies if needed, configures and builds madsfm (Release) into ${BUILD_DIR:-build}.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+BUILD_DIR="${BUILD_DIR:-$ROOT/build}"
+bash "$ROOT/scripts/install_deps.sh"
+cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+cmake --build "$BUILD_DIR" -j "$(nproc)"

@@ -1,0 +1,18 @@
+// Scale-only ablation of the two-focal solver: no shifts, unknowns scale, f0, f1.
+// 3 correspondences, the 3 distance equations are linear in (w0, scale^2 w1, scale^2):
+// at most 1 solution.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "madsfm/geometry/affine_depth_pose.h"
+
+namespace madsfm {
+
+// Conventions of SolveRelposeAffineDepthTwoFocal4pt with shift0 = shift1 = 0.
+int SolveRelposeScaleDepthTwoFocal3pt(const std::vector<Eigen::Vector2d>& p0, const std::vector<Eigen::Vector2d>& p1,
+                                      const std::vector<double>& d0, const std::vector<double>& d1,
+                                      std::vector<AffineDepthPose>* models);
+
+}  // namespace madsfm
