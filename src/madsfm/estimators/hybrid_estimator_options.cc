@@ -1,0 +1,31 @@
+#include "madsfm/estimators/hybrid_estimator_options.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace madsfm {
+namespace {
+
+void Require(bool ok, const std::string& what) {
+  if (!ok) throw std::invalid_argument("invalid estimator option: " + what);
+}
+
+}  // namespace
+
+void HybridEstimatorOptions::Check() const {
+  Require(std::isfinite(reproj_threshold) && reproj_threshold > 0, "reproj_threshold must be > 0");
+  Require(std::isfinite(epipolar_threshold) && epipolar_threshold > 0, "epipolar_threshold must be > 0");
+  Require(std::isfinite(sampson_weight) && sampson_weight >= 0, "sampson_weight must be >= 0");
+  Require(min_iterations >= 0, "min_iterations must be >= 0");
+  Require(max_iterations >= 1, "max_iterations must be >= 1");
+  Require(max_iterations >= min_iterations, "max_iterations must be >= min_iterations");
+  Require(confidence > 0 && confidence < 1, "confidence must be in (0, 1)");
+  Require(num_lo_steps >= 0, "num_lo_steps must be >= 0");
+  Require(lo_max_lm_iterations >= 0, "lo_max_lm_iterations must be >= 0");
+  Require(final_max_lm_iterations >= 0, "final_max_lm_iterations must be >= 0");
+  Require(!(solvers == SolverChoice::kDepthOnly && scoring == ScoringMode::kSampsonOnly),
+          "the depth-only solver needs depth residuals in the score");
+}
+
+}  // namespace madsfm

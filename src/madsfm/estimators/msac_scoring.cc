@@ -1,0 +1,67 @@
+#include "madsfm/estimators/msac_scoring.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "madsfm/geometry/essential_matrix.h"
+
+namespace madsfm {
+
+ModelResiduals::ModelResiduals(const AffineDepthPose& m, double pixel_scale0, double pixel_scale1)
+    : R_(m.R), Rt_(m.R.transpose()), t_(m.t), tt_(-m.R.transpose() * m.t), shift0_(m.shift0), shift1_(m.shift1),
+      scale_(m.scale), f0_(m.f0), f1_(m.f1), inv_f0_(1.0 / m.f0), inv_f1_(1.0 / m.f1),
+      pixel_scale0_sq_(pixel_scale0 * pixel_scale0), pixel_scale1_sq_(pixel_scale1 * pixel_scale1),
+      pixel_scale01_(pixel_scale0 * pixel_scale1) {
+  // F in solver units: F = K1^-T [t]x R K0^-1 with K = diag(f, f, 1).
+  const Eigen::Matrix3d E = CrossProductMatrix(m.t) * m.R;
+  const Eigen::Vector3d k0(inv_f0_, inv_f0_, 1.0), k1(inv_f1_, inv_f1_, 1.0);
+  F_ = k1.asDiagonal() * E * k0.asDiagonal();
+  const double n = F_.norm();
+  if (n > 0.0) F_ /= n;  // the Sampson error does not depend on the scale of F
+  Ft_ = F_.transpose();
+}
+
+MsacWeights MsacWeights::FromOptions(const HybridEstimatorOptions& o) {
+  MsacWeights w;
+  w.reproj_sq = o.reproj_threshold * o.reproj_threshold;
+  w.sampson_sq = o.epipolar_threshold * o.epipolar_threshold;
+  w.use_reprojection = o.scoring != ScoringMode::kSampsonOnly;
+  w.use_sampson = o.scoring != ScoringMode::kReprojectionOnly;
+  w.sampson_weight = o.scoring == ScoringMode::kHybrid ? 2.0 * o.sampson_weight * w.reproj_sq / w.sampson_sq : 1.0;
+  w.use_shift = o.estimate_shift;
+  return w;
+}
+
+double ScoreModel(const RelposeProblem& p, const AffineDepthPose& model, const MsacWeights& w, double stop_above) {
+  const ModelResiduals res(model, p.pixel_scale0, p.pixel_scale1);
+  const int n = p.size();
+  double score = 0.0;
+  const double* d0 = p.d0.data();
+  const double* d1 = p.d1.data();
+  for (int i = 0; i < n; ++i) {
+    if (w.use_reprojection) {
+      // NaN priors (no depth) are skipped: they are not data of the reprojection types.
+      if (d0[i] == d0[i]) score += std::min(res.Reprojection01(p.x0[i], p.x1[i], d0[i]), w.reproj_sq);
+      if (d1[i] == d1[i]) score += std::min(res.Reprojection10(p.x0[i], p.x1[i], d1[i]), w.reproj_sq);
+    }
+    if (w.use_sampson) score += w.sampson_weight * std::min(res.Sampson(p.x0[i], p.x1[i]), w.sampson_sq);
+    if ((i & 31) == 31 && score > stop_above) return score;
+  }
+  return score;
+}
+
+void ComputeInliers(const RelposeProblem& p, const AffineDepthPose& model, const MsacWeights& w, InlierSets* in) {
+  const ModelResiduals res(model, p.pixel_scale0, p.pixel_scale1);
+  in->reproj0.clear();
+  in->reproj1.clear();
+  in->sampson.clear();
+  for (int i = 0; i < p.size(); ++i) {
+    if (w.use_reprojection) {
+      if (p.d0[i] == p.d0[i] && res.Reprojection01(p.x0[i], p.x1[i], p.d0[i]) < w.reproj_sq) in->reproj0.push_back(i);
+      if (p.d1[i] == p.d1[i] && res.Reprojection10(p.x0[i], p.x1[i], p.d1[i]) < w.reproj_sq) in->reproj1.push_back(i);
+    }
+    if (w.use_sampson && res.Sampson(p.x0[i], p.x1[i]) < w.sampson_sq) in->sampson.push_back(i);
+  }
+}
+
+}  // namespace madsfm

@@ -1,0 +1,89 @@
+// Per-correspondence errors of an affine-depth model and the hybrid MSAC score (paper Sec. 4.3-4.4).
+// This is the hot path of the estimator: everything per model is precomputed in ModelResiduals.
+#pragma once
+
+#include <Eigen/Core>
+#include <limits>
+#include <vector>
+
+#include "madsfm/estimators/hybrid_estimator_options.h"
+#include "madsfm/estimators/relpose_problem.h"
+#include "madsfm/geometry/affine_depth_pose.h"
+
+namespace madsfm {
+
+// Squared errors in pixels^2 of one model; a point that lands behind a camera, or a non-positive
+// corrected depth, gets kInvalidError (an outlier under any threshold).
+class ModelResiduals {
+ public:
+  static constexpr double kInvalidError = std::numeric_limits<double>::max();
+
+  ModelResiduals(const AffineDepthPose& model, double pixel_scale0, double pixel_scale1);
+
+  // Lift x0 with the corrected prior d0 and reproject into view 1.
+  double Reprojection01(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1, double d0) const {
+    const double z0 = d0 + shift0_;
+    if (!(z0 > 0.0)) return kInvalidError;
+    const Eigen::Vector3d X1 = z0 * (R_ * Eigen::Vector3d(x0.x() * inv_f0_, x0.y() * inv_f0_, 1.0)) + t_;
+    if (!(X1.z() > 0.0)) return kInvalidError;
+    const double s = f1_ / X1.z();
+    const double ex = X1.x() * s - x1.x(), ey = X1.y() * s - x1.y();
+    return (ex * ex + ey * ey) * pixel_scale1_sq_;
+  }
+
+  // Lift x1 with the corrected prior d1 and reproject into view 0.
+  double Reprojection10(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1, double d1) const {
+    const double z1 = scale_ * (d1 + shift1_);
+    if (!(z1 > 0.0)) return kInvalidError;
+    const Eigen::Vector3d X0 = z1 * (Rt_ * Eigen::Vector3d(x1.x() * inv_f1_, x1.y() * inv_f1_, 1.0)) + tt_;
+    if (!(X0.z() > 0.0)) return kInvalidError;
+    const double s = f0_ / X0.z();
+    const double ex = X0.x() * s - x0.x(), ey = X0.y() * s - x0.y();
+    return (ex * ex + ey * ey) * pixel_scale0_sq_;
+  }
+
+  // Squared Sampson error.
+  double Sampson(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1) const {
+    const Eigen::Vector3d Fx0 = F_.col(0) * x0.x() + F_.col(1) * x0.y() + F_.col(2);
+    const Eigen::Vector3d Ftx1 = Ft_.col(0) * x1.x() + Ft_.col(1) * x1.y() + Ft_.col(2);
+    const double c = x1.x() * Fx0.x() + x1.y() * Fx0.y() + Fx0.z();
+    const double denom = Fx0.x() * Fx0.x() + Fx0.y() * Fx0.y() + Ftx1.x() * Ftx1.x() + Ftx1.y() * Ftx1.y();
+    if (!(denom > 0.0)) return kInvalidError;
+    return c * c / denom * pixel_scale01_;
+  }
+
+ private:
+  Eigen::Matrix3d R_, Rt_, F_, Ft_;
+  Eigen::Vector3d t_, tt_;
+  double shift0_, shift1_, scale_, f0_, f1_, inv_f0_, inv_f1_;
+  double pixel_scale0_sq_, pixel_scale1_sq_, pixel_scale01_;
+};
+
+// The truncated thresholds and weights of the hybrid MSAC score.
+struct MsacWeights {
+  double reproj_sq = 0.0;     // tau_r^2 (pixels^2)
+  double sampson_sq = 0.0;    // tau_s^2
+  double sampson_weight = 0.0;  // 2 lambda_s tau_r^2 / tau_s^2 (hybrid) or 1 (Sampson-only)
+  bool use_reprojection = true;
+  bool use_sampson = true;
+  bool use_shift = true;
+
+  static MsacWeights FromOptions(const HybridEstimatorOptions& options);
+};
+
+// Hybrid MSAC score of a model over all correspondences: sum of truncated reprojection errors of the
+// correspondences with depth (both directions) plus the weighted truncated Sampson errors. Stops early
+// and returns a value > stop_above as soon as the partial sum exceeds it.
+double ScoreModel(const RelposeProblem& problem, const AffineDepthPose& model, const MsacWeights& weights,
+                  double stop_above = std::numeric_limits<double>::infinity());
+
+// Inlier sets of the three data types (error below the squared threshold). Masks are resized to
+// problem.size(); a type that is not scored gets an empty set.
+struct InlierSets {
+  std::vector<int> reproj0, reproj1, sampson;
+  int Total() const { return static_cast<int>(reproj0.size() + reproj1.size() + sampson.size()); }
+};
+void ComputeInliers(const RelposeProblem& problem, const AffineDepthPose& model, const MsacWeights& weights,
+                    InlierSets* inliers);
+
+}  // namespace madsfm

@@ -1,0 +1,285 @@
+#include "madsfm/refinement/relpose_refiner.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "madsfm/geometry/essential_matrix.h"
+
+namespace madsfm {
+namespace {
+
+using Vector11d = Eigen::Matrix<double, kRelposeNumParams, 1>;
+using Matrix11d = Eigen::Matrix<double, kRelposeNumParams, kRelposeNumParams>;
+using Row11d = Eigen::Matrix<double, 1, kRelposeNumParams>;
+
+enum Param { kRot = 0, kTrans = 3, kShift0 = 6, kShift1 = 7, kScale = 8, kF0 = 9, kF1 = 10 };
+
+// Evaluates every residual and (optionally) its Jacobian row, calling sink(residual, row) for each.
+template <bool kWithJacobian, typename Sink>
+bool ForEachResidual(const RelposeProblem& p, const std::vector<int>& I0, const std::vector<int>& I1,
+                     const std::vector<int>& Is, double sampson_weight, const AffineDepthPose& m, Sink&& sink) {
+  const Eigen::Matrix3d& R = m.R;
+  const Eigen::Matrix3d Rt = R.transpose();
+  const double f0 = m.f0, f1 = m.f1;
+  const double ps0 = p.pixel_scale0, ps1 = p.pixel_scale1;
+  Row11d row0, row1;
+
+  for (int i : I0) {
+    const Eigen::Vector2d& x0 = p.x0[i];
+    const Eigen::Vector2d& x1 = p.x1[i];
+    const double z0 = p.d0[i] + m.shift0;
+    const Eigen::Vector3d v0(x0.x() / f0, x0.y() / f0, 1.0);
+    const Eigen::Vector3d Y = R * (z0 * v0);
+    const Eigen::Vector3d X1 = Y + m.t;
+    if (!(z0 > 0.0) || !(X1.z() > 0.0)) return false;
+    const double iz = 1.0 / X1.z();
+    const double u = X1.x() * iz, v = X1.y() * iz;
+    const double rx = ps1 * (f1 * u - x1.x()), ry = ps1 * (f1 * v - x1.y());
+    if constexpr (kWithJacobian) {
+      Eigen::Matrix<double, 2, 3> A;
+      const double k = ps1 * f1 * iz;
+      A << k, 0.0, -k * u, 0.0, k, -k * v;
+      // dX1/dw = -[Y]x
+      Eigen::Matrix3d dX_dw;
+      dX_dw << 0.0, Y.z(), -Y.y(), -Y.z(), 0.0, Y.x(), Y.y(), -Y.x(), 0.0;
+      const Eigen::Matrix<double, 2, 3> Jw = A * dX_dw;
+      const Eigen::Vector2d Js0 = A * (R * v0);
+      const Eigen::Vector2d Jf0 = A * (R * Eigen::Vector3d(-z0 * x0.x() / (f0 * f0), -z0 * x0.y() / (f0 * f0), 0.0));
+      row0.setZero();
+      row1.setZero();
+      row0.segment<3>(kRot) = Jw.row(0);
+      row1.segment<3>(kRot) = Jw.row(1);
+      row0.segment<3>(kTrans) = A.row(0);
+      row1.segment<3>(kTrans) = A.row(1);
+      row0(kShift0) = Js0(0);
+      row1(kShift0) = Js0(1);
+      row0(kF0) = Jf0(0);
+      row1(kF0) = Jf0(1);
+      row0(kF1) = ps1 * u;
+      row1(kF1) = ps1 * v;
+    }
+    sink(rx, row0);
+    sink(ry, row1);
+  }
+
+  for (int i : I1) {
+    const Eigen::Vector2d& x0 = p.x0[i];
+    const Eigen::Vector2d& x1 = p.x1[i];
+    const double dd = p.d1[i] + m.shift1;
+    const double z1 = m.scale * dd;
+    const Eigen::Vector3d v1(x1.x() / f1, x1.y() / f1, 1.0);
+    const Eigen::Vector3d W = z1 * v1 - m.t;
+    const Eigen::Vector3d X0 = Rt * W;
+    if (!(z1 > 0.0) || !(X0.z() > 0.0)) return false;
+    const double iz = 1.0 / X0.z();
+    const double u = X0.x() * iz, v = X0.y() * iz;
+    const double rx = ps0 * (f0 * u - x0.x()), ry = ps0 * (f0 * v - x0.y());
+    if constexpr (kWithJacobian) {
+      Eigen::Matrix<double, 2, 3> B;
+      const double k = ps0 * f0 * iz;
+      B << k, 0.0, -k * u, 0.0, k, -k * v;
+      const Eigen::Matrix<double, 2, 3> BRt = B * Rt;
+      // dX0/dw = R^T [W]x
+      Eigen::Matrix3d Wx;
+      Wx << 0.0, -W.z(), W.y(), W.z(), 0.0, -W.x(), -W.y(), W.x(), 0.0;
+      const Eigen::Matrix<double, 2, 3> Jw = BRt * Wx;
+      const Eigen::Vector2d Js1 = BRt * (m.scale * v1);
+      const Eigen::Vector2d Ja = BRt * (dd * v1);
+      const Eigen::Vector2d Jf1 = BRt * Eigen::Vector3d(-z1 * x1.x() / (f1 * f1), -z1 * x1.y() / (f1 * f1), 0.0);
+      row0.setZero();
+      row1.setZero();
+      row0.segment<3>(kRot) = Jw.row(0);
+      row1.segment<3>(kRot) = Jw.row(1);
+      row0.segment<3>(kTrans) = -BRt.row(0);
+      row1.segment<3>(kTrans) = -BRt.row(1);
+      row0(kShift1) = Js1(0);
+      row1(kShift1) = Js1(1);
+      row0(kScale) = Ja(0);
+      row1(kScale) = Ja(1);
+      row0(kF1) = Jf1(0);
+      row1(kF1) = Jf1(1);
+      row0(kF0) = ps0 * u;
+      row1(kF0) = ps0 * v;
+    }
+    sink(rx, row0);
+    sink(ry, row1);
+  }
+
+  if (!Is.empty()) {
+    const Eigen::Matrix3d tx = CrossProductMatrix(m.t);
+    const Eigen::Matrix3d E = tx * R;
+    // dE/dw_j = [t]x [e_j]x R, dE/dt_j = [e_j]x R.
+    Eigen::Matrix3d dE[6];
+    for (int j = 0; j < 3; ++j) {
+      const Eigen::Matrix3d ejx = CrossProductMatrix(Eigen::Vector3d::Unit(j));
+      dE[j] = tx * ejx * R;
+      dE[3 + j] = ejx * R;
+    }
+    const double k = std::sqrt(sampson_weight * ps0 * ps1);
+    const double if0 = 1.0 / f0, if1 = 1.0 / f1;
+    for (int i : Is) {
+      const Eigen::Vector3d y0(p.x0[i].x() * if0, p.x0[i].y() * if0, 1.0);
+      const Eigen::Vector3d y1(p.x1[i].x() * if1, p.x1[i].y() * if1, 1.0);
+      const Eigen::Vector3d a = E * y0;
+      const Eigen::Vector3d b = E.transpose() * y1;
+      const double c = y1.dot(a);
+      const double na = a.x() * a.x() + a.y() * a.y(), nb = b.x() * b.x() + b.y() * b.y();
+      const double D = na * if1 * if1 + nb * if0 * if0;
+      if (!(D > 0.0)) return false;
+      const double sD = std::sqrt(D);
+      const double e = k * c / sD;
+      if constexpr (kWithJacobian) {
+        row0.setZero();
+        const double g = k / sD, h = -k * c / (2.0 * D * sD);  // de = g dc + h dD
+        for (int j = 0; j < 6; ++j) {
+          const Eigen::Vector3d da = dE[j] * y0;
+          const Eigen::Vector3d db = dE[j].transpose() * y1;
+          const double dc = y1.dot(da);
+          const double dD = 2.0 * (a.x() * da.x() + a.y() * da.y()) * if1 * if1 +
+                            2.0 * (b.x() * db.x() + b.y() * db.y()) * if0 * if0;
+          row0(j) = g * dc + h * dD;
+        }
+        // Focal lengths: dy0/df0 = (-x0/f0^2, -y0/f0^2, 0), likewise view 1.
+        const Eigen::Vector3d dy0(-y0.x() * if0, -y0.y() * if0, 0.0);
+        const Eigen::Vector3d dy1(-y1.x() * if1, -y1.y() * if1, 0.0);
+        {
+          const Eigen::Vector3d da = E * dy0;
+          const double dc = b.dot(dy0);
+          const double dD = 2.0 * (a.x() * da.x() + a.y() * da.y()) * if1 * if1 - 2.0 * nb * if0 * if0 * if0;
+          row0(kF0) = g * dc + h * dD;
+        }
+        {
+          const Eigen::Vector3d db = E.transpose() * dy1;
+          const double dc = a.dot(dy1);
+          const double dD = 2.0 * (b.x() * db.x() + b.y() * db.y()) * if0 * if0 - 2.0 * na * if1 * if1 * if1;
+          row0(kF1) = g * dc + h * dD;
+        }
+      }
+      sink(e, row0);
+    }
+  }
+  return true;
+}
+
+AffineDepthPose ApplyStep(const AffineDepthPose& m, const Vector11d& d, bool shared_focal) {
+  AffineDepthPose n = m;
+  const Eigen::Vector3d w = d.segment<3>(kRot);
+  const double angle = w.norm();
+  if (angle > 0.0) n.R = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() * m.R;
+  n.t = m.t + d.segment<3>(kTrans);
+  n.shift0 = m.shift0 + d(kShift0);
+  n.shift1 = m.shift1 + d(kShift1);
+  n.scale = m.scale + d(kScale);
+  if (shared_focal) {
+    n.f0 = n.f1 = m.f0 + d(kF0);
+  } else {
+    n.f0 = m.f0 + d(kF0);
+    n.f1 = m.f1 + d(kF1);
+  }
+  return n;
+}
+
+}  // namespace
+
+void EvaluateRelposeResiduals(const RelposeProblem& p, const std::vector<int>& I0, const std::vector<int>& I1,
+                              const std::vector<int>& Is, double sampson_weight, const AffineDepthPose& model,
+                              std::vector<double>* residuals, std::vector<std::vector<double>>* jacobian) {
+  residuals->clear();
+  if (jacobian) jacobian->clear();
+  ForEachResidual<true>(p, I0, I1, Is, sampson_weight, model, [&](double r, const Row11d& row) {
+    residuals->push_back(r);
+    if (jacobian) jacobian->emplace_back(row.data(), row.data() + kRelposeNumParams);
+  });
+}
+
+bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const std::vector<int>& I1,
+                   const std::vector<int>& Is, const RelposeRefinerOptions& options, AffineDepthPose* model,
+                   RelposeRefinerSummary* summary) {
+  const bool shared = p.mode == CameraMode::kSharedFocal;
+  // Which parameters are free.
+  bool free_param[kRelposeNumParams];
+  for (int j = 0; j < 6; ++j) free_param[j] = true;
+  const bool depth = options.refine_depth && (!I0.empty() || !I1.empty());
+  free_param[kShift0] = depth && options.refine_shift && !I0.empty();
+  free_param[kShift1] = depth && options.refine_shift && !I1.empty();
+  free_param[kScale] = depth && !I1.empty();
+  free_param[kF0] = p.mode != CameraMode::kCalibrated;
+  free_param[kF1] = p.mode == CameraMode::kTwoFocal;
+  int num_free = 0;
+  for (bool b : free_param) num_free += b;
+  const int num_residuals = 2 * static_cast<int>(I0.size() + I1.size()) + static_cast<int>(Is.size());
+  if (num_residuals < num_free) return false;
+
+  auto cost_of = [&](const AffineDepthPose& m, double* cost) {
+    double c = 0.0;
+    const bool ok = ForEachResidual<false>(p, I0, I1, Is, options.sampson_weight, m,
+                                           [&c](double r, const Row11d&) { c += r * r; });
+    *cost = c;
+    return ok && std::isfinite(c);
+  };
+
+  AffineDepthPose current = *model;
+  double cost;
+  if (!cost_of(current, &cost)) return false;
+  if (summary) summary->initial_cost = cost;
+  double lambda = 1e-4;
+  int it = 0;
+  for (; it < options.max_iterations; ++it) {
+    Matrix11d JtJ = Matrix11d::Zero();
+    Vector11d Jtr = Vector11d::Zero();
+    ForEachResidual<true>(p, I0, I1, Is, options.sampson_weight, current, [&](double r, const Row11d& row) {
+      Row11d rr = row;
+      if (shared) {
+        rr(kF0) += rr(kF1);
+        rr(kF1) = 0.0;
+      }
+      JtJ.selfadjointView<Eigen::Upper>().rankUpdate(rr.transpose());
+      Jtr += rr.transpose() * r;
+    });
+    JtJ.triangularView<Eigen::Lower>() = JtJ.transpose();
+    for (int j = 0; j < kRelposeNumParams; ++j) {
+      if (!free_param[j]) {
+        JtJ.row(j).setZero();
+        JtJ.col(j).setZero();
+        JtJ(j, j) = 1.0;
+        Jtr(j) = 0.0;
+      }
+    }
+    bool improved = false;
+    double new_cost = cost;
+    for (int attempt = 0; attempt < 10; ++attempt) {
+      Matrix11d A = JtJ;
+      for (int j = 0; j < kRelposeNumParams; ++j) A(j, j) += lambda * std::max(JtJ(j, j), 1e-12);
+      const Vector11d delta = A.ldlt().solve(-Jtr);
+      if (!delta.allFinite()) {
+        lambda *= 10.0;
+        continue;
+      }
+      const AffineDepthPose candidate = ApplyStep(current, delta, shared);
+      if (candidate.scale > 0.0 && candidate.f0 > 0.0 && candidate.f1 > 0.0 && cost_of(candidate, &new_cost) &&
+          new_cost < cost) {
+        current = candidate;
+        improved = true;
+        lambda = std::max(lambda * 0.1, 1e-10);
+        break;
+      }
+      lambda *= 10.0;
+    }
+    if (!improved) break;
+    const double decrease = cost - new_cost;
+    cost = new_cost;
+    if (decrease <= options.function_tolerance * cost) {
+      ++it;
+      break;
+    }
+  }
+  *model = current;
+  if (summary) {
+    summary->final_cost = cost;
+    summary->iterations = it;
+  }
+  return true;
+}
+
+}  // namespace madsfm
