@@ -1,9 +1,50 @@
-// madsfm command-line entry point: dispatches `madsfm <command> [--options]` COLMAP-style.
+// madsfm command-line entry point: `madsfm <command> [--options]`, dispatched COLMAP-style.
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "colmap_ext/exe/pair_commands.h"
+
+namespace {
+
+struct Command {
+  const char* name;
+  std::function<int(int, char**)> run;
+  const char* summary;
+};
+
+const std::vector<Command>& Commands() {
+  static const std::vector<Command> commands = {
+      {"pair", madsfm::RunPair, "Estimate one pair directory (relative pose, depth scale/shifts, focals) -> JSON"},
+      {"bench", madsfm::RunBench, "Run methods over many pair directories -> accuracy/runtime tables, CSV"},
+  };
+  return commands;
+}
+
+void PrintUsage() {
+  std::printf(
+      "madsfm: Structure-from-Motion initialisation with monocular depth priors\n\n"
+      "Usage: madsfm <command> [--option value ...]\n"
+      "       madsfm <command> --help\n\nCommands:\n");
+  for (const Command& c : Commands()) std::printf("  %-22s %s\n", c.name, c.summary);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-  std::fprintf(stderr, "madsfm: no commands yet\n");
+  if (argc < 2 || std::strcmp(argv[1], "help") == 0 || std::strcmp(argv[1], "--help") == 0 ||
+      std::strcmp(argv[1], "-h") == 0) {
+    PrintUsage();
+    return argc < 2 ? EXIT_FAILURE : EXIT_SUCCESS;
+  }
+  for (const Command& c : Commands()) {
+    if (c.name == std::string(argv[1])) return c.run(argc, argv);
+  }
+  std::fprintf(stderr, "madsfm: unknown command '%s'\n\n", argv[1]);
+  PrintUsage();
   return EXIT_FAILURE;
 }

@@ -81,8 +81,10 @@ void Engine::LocalOptimize(AffineDepthPose* model, double* score, bool from_poin
       }
     }
     if (!Refine(&candidate, inliers_, o_.lo_max_lm_iterations)) break;
+    // Ties are accepted: once the inlier errors are below the rounding of the (truncated) outlier
+    // terms the score stops changing, but the least-squares model is still the better one.
     const double s = ScoreModel(p_, candidate, w_);
-    if (!(s < *score)) break;
+    if (!(s <= *score)) break;
     *model = candidate;
     *score = s;
   }
@@ -158,7 +160,7 @@ HybridEstimate Engine::Run() {
         AffineDepthPose refined = best;
         if (!Refine(&refined, inliers_, o_.final_max_lm_iterations)) break;
         const double s = ScoreModel(p_, refined, w_);
-        if (!(s < best_score)) break;
+        if (!(s <= best_score)) break;
         best = refined;
         best_score = s;
         ComputeInliers(p_, best, w_, &inliers_);

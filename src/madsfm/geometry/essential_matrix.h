@@ -2,6 +2,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <vector>
 
 namespace madsfm {
@@ -22,7 +23,8 @@ bool PoseFromEssential(const Eigen::Matrix3d& E, const std::vector<Eigen::Vector
                        const std::vector<Eigen::Vector2d>& x1, Eigen::Matrix3d* R, Eigen::Vector3d* t);
 
 // F = K1^-T E K0^-1.
-Eigen::Matrix3d FundamentalFromEssential(const Eigen::Matrix3d& E, const Eigen::Matrix3d& K0, const Eigen::Matrix3d& K1);
+Eigen::Matrix3d FundamentalFromEssential(const Eigen::Matrix3d& E, const Eigen::Matrix3d& K0,
+                                         const Eigen::Matrix3d& K1);
 
 // Squared Sampson error of the correspondence (p0, p1) under [p1;1]^T F [p0;1] = 0, in the units
 // of p (squared).
@@ -35,8 +37,9 @@ inline double SampsonErrorSquared(const Eigen::Matrix3d& F, const Eigen::Vector2
 }
 
 // Bougnoux's focal lengths from a fundamental matrix given in principal-point-centred pixel
-// coordinates ([p1;1]^T F [p0;1] = 0). Returns false unless both squared focals are positive
-// and finite.
+// coordinates ([p1;1]^T F [p0;1] = 0). Returns false (f0, f1 untouched) unless both squared
+// focals are positive and finite; the formula is degenerate (0 / 0) when the two optical axes
+// are coplanar, e.g. for parallel axes.
 bool BougnouxFocals(const Eigen::Matrix3d& F, double* f0, double* f1);
 
 }  // namespace madsfm

@@ -14,7 +14,10 @@ double RotationErrorDeg(const Eigen::Matrix3d& R_est, const Eigen::Matrix3d& R_g
 double TranslationErrorDeg(const Eigen::Vector3d& t_est, const Eigen::Vector3d& t_gt);
 
 // Area under the recall curve of `errors` (degrees) up to each threshold, in [0, 1] (trapezoid
-// over the sorted errors, as in SuperGlue / the paper's evaluation).
+// over the sorted errors, as in SuperGlue / the paper's evaluation): recall (i + 1) / n at the
+// i-th sorted error, the curve starts at (0, 0) and stays flat from the last error below the
+// threshold up to the threshold. Errors equal to the threshold do not count; NaN or negative
+// errors count as failures. Empty errors or a non-positive threshold give 0.
 std::vector<double> PoseAuc(std::vector<double> errors, const std::vector<double>& thresholds);
 
 }  // namespace madsfm

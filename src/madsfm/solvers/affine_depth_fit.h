@@ -14,8 +14,11 @@ namespace madsfm {
 // translation direction t (any length). Triangulates every correspondence, fits
 //   k * z0_i = d0_i + shift0,   k * z1_i = scale * (d1_i + shift1)
 // by linear least squares over the points in front of both cameras, and rescales model->t by k.
-// Needs >= 2 points with depth in each view; returns false (model untouched) otherwise or when
-// the fit gives a non-positive scale.
+// Each view is fitted separately from its own priors (d0 = k z0 - shift0, d1 = (k / scale) z1 -
+// shift1, z from the unit-length translation). fit_shift = false fixes both shifts to 0 (the
+// scale-only ablation). Needs >= 2 points with depth in each view; returns false (model
+// untouched) otherwise, when the depths do not determine the fit, or when k or the scale is not
+// positive. R, f0 and f1 are never changed.
 bool FitAffineDepthToPose(const std::vector<Eigen::Vector2d>& x0, const std::vector<Eigen::Vector2d>& x1,
                           const std::vector<double>& d0, const std::vector<double>& d1, AffineDepthPose* model,
                           bool fit_shift = true);

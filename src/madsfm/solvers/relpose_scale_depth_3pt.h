@@ -10,8 +10,9 @@
 namespace madsfm {
 
 // Same conventions as SolveRelposeAffineDepth3pt with shift0 = shift1 = 0: finds (R, t, scale)
-// with scale * d1[i] * [x1[i]; 1] ~= R * d0[i] * [x0[i]; 1] + t in the least-squares sense.
-// Returns 0 or 1.
+// with scale * d1[i] * [x1[i]; 1] ~= R * d0[i] * [x0[i]; 1] + t in the least-squares sense
+// (exact for consistent data). Uses the first 3 entries; needs d0[i], d1[i] > 0 (there is no shift
+// to fix a non-positive prior). Returns 0 or 1.
 int SolveRelposeScaleDepth3pt(const std::vector<Eigen::Vector2d>& x0, const std::vector<Eigen::Vector2d>& x1,
                               const std::vector<double>& d0, const std::vector<double>& d1,
                               std::vector<AffineDepthPose>* models);

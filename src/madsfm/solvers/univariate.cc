@@ -2,82 +2,565 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+
+// Outline of SolveRealPolynomialRoots:
+//  1. Exact zero roots are split off; leading coefficients that only add roots more than 2^50 times
+//     larger than all others (rounding noise on a coefficient that should be 0) are dropped.
+//  2. x = 2^e y balances |c_0| and |c_n| 2^(e n) (the roots' geometric mean becomes ~1), and a power
+//     of two scales max |a_k| to ~1: exact, and it keeps intermediate values in range.
+//  3. Fujiwara's bound on the roots and on their inverses gives L < |y| < U.
+//  4. Sturm sequence counts on (-U, -L) and (L, U), split at geometric means while an interval
+//     spans a factor > 4 and at midpoints after that, isolate the roots. The counts only guide the
+//     search: an interval where p changes sign always yields a root; one whose count says "roots" but
+//     where p keeps its sign is examined at the extremum of p (even multiplicity, or a close pair).
+//  5. Each root is polished by Laguerre's method kept inside its bracket, and reported only if
+//     |p(x)| <= kResidualTol * sum_k |c_k x^k|.
+//  6. When the Sturm chain shows near-multiple roots, the extrema of p are checked as well, so that a
+//     double root that rounding turned into a close complex pair is still reported.
 
 namespace madsfm {
 namespace {
 
-struct Poly {
-  int degree = -1;  // -1: the zero polynomial
-  double c[kMaxPolynomialDegree + 1];
-};
+constexpr int kMaxN = kMaxPolynomialDegree;
+// Column stride of the Sturm table (>= kMaxN + 1 members, a multiple of 4 doubles).
+constexpr int kStride = 24;
+constexpr double kEps = 2.220446049250313e-16;
+// A Sturm remainder coefficient below kChainTol times the size of the terms it was computed from
+// counts as zero (degree drop; the chain ends when the whole remainder vanishes).
+constexpr double kChainTol = 1e-13;
+// A reported root x satisfies |p(x)| <= kResidualTol * sum_k |c_k| |x|^k.
+constexpr double kResidualTol = 1e-10;
+// A Sturm remainder smaller than this relative to the terms it came from signals near-multiple roots.
+constexpr double kNearMultipleRatio = 1e-8;
+// Polishing stops after a step below kStepTol (relative), or earlier when the last two steps predict
+// (cubic convergence) an error below kPredictedTol after the current one.
+constexpr double kStepTol = 1e-10;
+constexpr double kPredictedTol = 1e-17;
+// Intervals narrower than this (relative) are not split further: their roots form a cluster that
+// double precision cannot separate.
+constexpr double kTinyWidth = 0x1p-42;
+// A count-1 interval without a sign change of p (a double root?) is split down to this relative
+// width before its extremum is examined.
+constexpr double kTangentWidth = 0x1p-10;
+// Leading coefficients whose roots lie more than 2^kDropLog2 beyond those of the rest are dropped.
+constexpr double kDropLog2 = 50.0;
 
-double Eval(const Poly& p, double x) { return p.degree < 0 ? 0.0 : EvaluatePolynomial(p.c, p.degree, x); }
+// Four doubles processed in lock step (GCC / Clang vector extension).
+typedef double Vec4 __attribute__((vector_size(32)));
 
-// r = -(a mod b); b must have degree >= 0.
-void NegRemainder(const Poly& a, const Poly& b, Poly* r) {
-  double w[kMaxPolynomialDegree + 1];
-  std::copy(a.c, a.c + a.degree + 1, w);
-  const double lead = b.c[b.degree];
-  for (int k = a.degree; k >= b.degree; --k) {
-    const double q = w[k] / lead;
-    for (int j = 0; j <= b.degree; ++j) w[k - b.degree + j] -= q * b.c[j];
-    w[k] = 0.0;
-  }
-  double scale = 0.0;
-  for (int j = 0; j < b.degree; ++j) scale = std::max(scale, std::abs(a.c[j]));
-  scale = std::max(scale, std::abs(a.c[a.degree]));
-  r->degree = b.degree - 1;
-  while (r->degree >= 0 && std::abs(w[r->degree]) <= 1e-14 * scale) --r->degree;
-  for (int j = 0; j <= r->degree; ++j) r->c[j] = -w[j];
+#if defined(__FMA__)
+inline double MulAdd(double a, double b, double c) { return std::fma(a, b, c); }
+inline Vec4 MulAdd(Vec4 a, double b, Vec4 c) {
+  Vec4 r;
+  for (int l = 0; l < 4; ++l) r[l] = std::fma(a[l], b, c[l]);
+  return r;
+}
+#else
+inline double MulAdd(double a, double b, double c) { return a * b + c; }
+inline Vec4 MulAdd(Vec4 a, double b, Vec4 c) { return a * b + c; }
+#endif
+
+// e with 2^e <= |v| < 2^(e + 1), for finite nonzero v.
+inline int Exponent(double v) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &v, sizeof(bits));
+  const int biased = static_cast<int>((bits >> 52) & 0x7ff);
+  return biased != 0 ? biased - 1023 : std::ilogb(v);
 }
 
-struct Sturm {
-  Poly s[kMaxPolynomialDegree + 1];
-  int n = 0;
-  int SignChanges(double x) const {
-    int changes = 0;
-    double prev = 0.0;
-    for (int i = 0; i < n; ++i) {
-      const double v = Eval(s[i], x);
-      if (v == 0.0) continue;
-      if (prev != 0.0 && ((v > 0) != (prev > 0))) ++changes;
-      prev = v;
-    }
-    return changes;
+// 2^e for -1022 <= e <= 1023.
+inline double Pow2(int e) {
+  const std::uint64_t bits = static_cast<std::uint64_t>(e + 1023) << 52;
+  double v;
+  std::memcpy(&v, &bits, sizeof(v));
+  return v;
+}
+
+// kInverse[j] = 1 / j (multiplications instead of divisions in the bounds).
+constexpr double kInverse[kMaxN + 1] = {0.0,      1.0,      1.0 / 2,  1.0 / 3,  1.0 / 4,  1.0 / 5,  1.0 / 6,
+                                        1.0 / 7,  1.0 / 8,  1.0 / 9,  1.0 / 10, 1.0 / 11, 1.0 / 12, 1.0 / 13,
+                                        1.0 / 14, 1.0 / 15, 1.0 / 16, 1.0 / 17, 1.0 / 18, 1.0 / 19, 1.0 / 20};
+
+inline int Sign(double v) { return (v > 0.0) - (v < 0.0); }
+
+// Split point of [lo, hi]: the geometric mean when the interval spans a factor > 4 on one side of 0.
+inline double Split(double lo, double hi) {
+  if (lo > 0.0 && hi > 4.0 * lo) return std::sqrt(lo * hi);
+  if (hi < 0.0 && lo < 4.0 * hi) return -std::sqrt(lo * hi);
+  return 0.5 * (lo + hi);
+}
+
+// p(x) and sum_k |a_k| |x|^k.
+inline void Residual(const double* a, int n, double x, double* value, double* scale) {
+  double v = a[n], s = std::abs(a[n]);
+  const double ax = std::abs(x);
+  for (int k = n - 1; k >= 0; --k) {
+    v = MulAdd(v, x, a[k]);
+    s = MulAdd(s, ax, std::abs(a[k]));
   }
+  *value = v;
+  *scale = s;
+}
+
+// Sturm sequence p = s_0, s_1 = p', s_{i+1} = -(s_{i-1} mod s_i), each member scaled by a positive
+// power of two. Stored transposed, t[k * kStride + i] = coefficient of x^k in s_i, so that one
+// vectorised Horner recurrence evaluates all members.
+struct SturmChain {
+  int degree = 0;  // of p
+  int size = 0;    // number of members
+  int member_degree[kMaxN + 1];
+  // Smallest ratio between a remainder and the terms it was computed from (1 if none): tiny values
+  // mean p and p' nearly share a root.
+  double min_ratio = 1.0;
+  alignas(32) double t[(kMaxN + 1) * kStride];
 };
 
-// Polishes the single root of p in [a, b] (p(a), p(b) of opposite sign, or a multiple root).
-double Polish(const Poly& p, const Poly& dp, double a, double b) {
-  double fa = Eval(p, a);
-  const double fb = Eval(p, b);
-  if (fa == 0.0) return a;
-  if (fb == 0.0) return b;
-  if ((fa > 0) == (fb > 0)) {
-    // Even multiplicity: the root is a root of p' too; Newton on p from the midpoint.
-    double x = 0.5 * (a + b);
-    for (int it = 0; it < 60; ++it) {
-      const double d = Eval(dp, x);
-      if (d == 0.0) break;
-      const double nx = x - Eval(p, x) / d;
-      if (!(nx > a && nx < b)) break;
-      if (std::abs(nx - x) <= 1e-16 * std::max(1.0, std::abs(x))) { x = nx; break; }
-      x = nx;
-    }
-    return x;
+// Appends sign * c (degree `degree`) to the chain.
+void StoreMember(const double* c, int degree, double sign, SturmChain* ch) {
+  const int i = ch->size++;
+  ch->member_degree[i] = degree;
+  for (int k = 0; k <= degree; ++k) ch->t[k * kStride + i] = sign * c[k];
+  for (int k = degree + 1; k <= ch->degree; ++k) ch->t[k * kStride + i] = 0.0;
+}
+
+// Builds the Sturm chain of a (degree n >= 1, a[n] != 0, max |a_k| = O(1)).
+void BuildSturmChain(const double* a, int n, SturmChain* ch) {
+  ch->degree = n;
+  ch->size = 0;
+  ch->min_ratio = 1.0;
+  // The working polynomials are b_i = sign_i s_i: b_{i+1} = b_{i-1} mod b_i (no negation and no
+  // rescaling on the critical path), so sign_{i+1} = -sign_{i-1}.
+  double buffers[2][kMaxN + 1];
+  double* prev = buffers[0];
+  double* cur = buffers[1];
+  double prev_sign = 1.0, cur_sign = 1.0;
+  int dprev = n, dcur = n - 1;
+  double prev_max = 0.0, cur_max = 0.0;
+  for (int k = 0; k <= n; ++k) {
+    prev[k] = a[k];
+    prev_max = std::max(prev_max, std::abs(a[k]));
   }
-  double x = 0.5 * (a + b);
+  for (int k = 0; k < n; ++k) {
+    cur[k] = (k + 1) * a[k + 1];
+    cur_max = std::max(cur_max, std::abs(cur[k]));
+  }
+  StoreMember(prev, dprev, 1.0, ch);
+  StoreMember(cur, dcur, 1.0, ch);
+  while (dcur > 0) {
+    // prev <- prev mod cur, in place.
+    const double inv_lead = 1.0 / cur[dcur];
+    double qsum = 0.0;
+    for (int k = dprev; k >= dcur; --k) {
+      const double q = -prev[k] * inv_lead;
+      qsum += std::abs(q);
+      double* pk = prev + (k - dcur);
+      for (int j = 0; j < dcur; ++j) pk[j] = MulAdd(q, cur[j], pk[j]);
+    }
+    const double size = prev_max + qsum * cur_max;
+    const double threshold = kChainTol * size;
+    int dr = dcur - 1;
+    while (dr >= 0 && std::abs(prev[dr]) <= threshold) --dr;
+    if (dr < 0) {
+      ch->min_ratio = 0.0;
+      break;  // cur divides prev numerically: cur is the gcd (multiple roots)
+    }
+    double rmax = 0.0;
+    for (int j = 0; j <= dr; ++j) rmax = std::max(rmax, std::abs(prev[j]));
+    ch->min_ratio = std::min(ch->min_ratio, rmax / size);
+    if (rmax < 0x1p-300 || rmax > 0x1p300) {  // keep the magnitudes in range
+      const double f = Pow2(std::clamp(-Exponent(rmax), -1000, 1000));
+      for (int j = 0; j <= dr; ++j) prev[j] *= f;
+      rmax *= f;
+    }
+    const double new_sign = -prev_sign;
+    std::swap(prev, cur);
+    prev_sign = cur_sign;
+    cur_sign = new_sign;
+    prev_max = cur_max;
+    cur_max = rmax;
+    dprev = dcur;
+    dcur = dr;
+    StoreMember(cur, dcur, cur_sign, ch);
+  }
+  // Zero the padding lanes read by the vectorised evaluation.
+  const int lanes = (ch->size + 3) & ~3;
+  for (int k = 0; k <= n; ++k) {
+    for (int i = ch->size; i < lanes; ++i) ch->t[k * kStride + i] = 0.0;
+  }
+}
+
+// Sign changes of the Sturm sequence at x (zeros skipped); *sign_p = sign of p(x). One Horner
+// recurrence over 4 * kVecs lanes evaluates all members.
+template <int kVecs>
+int SignChangesImpl(const SturmChain& ch, double x, int* sign_p) {
+  const int n = ch.degree;
+  const double* t = ch.t;
+  Vec4 v[kVecs];
+  bool flip = false;
+  if (std::abs(x) <= 1.0) {
+    const double* row = t + n * kStride;
+    for (int j = 0; j < kVecs; ++j) std::memcpy(&v[j], row + 4 * j, sizeof(Vec4));
+    for (int k = n - 1; k >= 0; --k) {
+      row = t + k * kStride;
+#pragma GCC unroll 8
+      for (int j = 0; j < kVecs; ++j) {
+        Vec4 c;
+        std::memcpy(&c, row + 4 * j, sizeof(Vec4));
+        v[j] = MulAdd(v[j], x, c);
+      }
+    }
+  } else {
+    // x^-n s_i(x) by Horner in 1/x, free of overflow. The common factor x^-n leaves the sign changes
+    // alone; it flips every sign when x < 0 and n is odd.
+    const double r = 1.0 / x;
+    for (int j = 0; j < kVecs; ++j) std::memcpy(&v[j], t + 4 * j, sizeof(Vec4));
+    for (int k = 1; k <= n; ++k) {
+      const double* row = t + k * kStride;
+#pragma GCC unroll 8
+      for (int j = 0; j < kVecs; ++j) {
+        Vec4 c;
+        std::memcpy(&c, row + 4 * j, sizeof(Vec4));
+        v[j] = MulAdd(v[j], r, c);
+      }
+    }
+    flip = x < 0.0 && (n & 1);
+  }
+  double values[4 * kVecs];
+  std::memcpy(values, v, sizeof(values));
+  *sign_p = flip ? -Sign(values[0]) : Sign(values[0]);
+  // Sign changes from the sign bits; exact zeros, which the count must skip, take the slow path.
+  std::uint64_t bits[4 * kVecs];
+  std::memcpy(bits, values, sizeof(bits));
+  const int size = ch.size;
+  int changes = 0, zeros = 0;
+  for (int i = 0; i + 1 < size; ++i) changes += static_cast<int>((bits[i] ^ bits[i + 1]) >> 63);
+  for (int i = 0; i < size; ++i) zeros += static_cast<int>((bits[i] << 1) == 0);
+  if (zeros == 0) return changes;
+  changes = 0;
+  int prev = 0;
+  for (int i = 0; i < size; ++i) {
+    const int s = Sign(values[i]);
+    if (s == 0) continue;
+    if (prev != 0 && s != prev) ++changes;
+    prev = s;
+  }
+  return changes;
+}
+
+int SignChanges(const SturmChain& ch, double x, int* sign_p) {
+  if (ch.size <= 4) return SignChangesImpl<1>(ch, x, sign_p);
+  if (ch.size <= 8) return SignChangesImpl<2>(ch, x, sign_p);
+  if (ch.size <= 12) return SignChangesImpl<3>(ch, x, sign_p);
+  if (ch.size <= 16) return SignChangesImpl<4>(ch, x, sign_p);
+  return SignChangesImpl<kStride / 4>(ch, x, sign_p);
+}
+
+// Sign changes of a sequence of signs (zeros skipped).
+int CountChanges(const int* s, int size) {
+  int changes = 0, prev = 0;
+  for (int i = 0; i < size; ++i) {
+    if (s[i] == 0) continue;
+    if (prev != 0 && s[i] != prev) ++changes;
+    prev = s[i];
+  }
+  return changes;
+}
+
+// The root of f (degree d >= 1) in (lo, hi), where f(lo) has sign slo != 0 and f(hi) the opposite
+// sign. Laguerre's method (cubic convergence; global when all roots are real), kept inside the
+// shrinking bracket by bisection (geometric bisection on wide one-signed intervals).
+double SolveBracketed(const double* f, int d, double lo, double hi, int slo) {
+  const double dm1 = d - 1;
+  double x = Split(lo, hi);
+  double last_step = 0.0;  // relative size of the previous Laguerre step; 0 after other steps
   for (int it = 0; it < 200; ++it) {
-    const double fx = Eval(p, x);
-    if (fx == 0.0) return x;
-    if ((fx > 0) == (fa > 0)) { a = x; fa = fx; } else { b = x; }
-    const double d = Eval(dp, x);
-    double nx = d != 0.0 ? x - fx / d : 0.5 * (a + b);
-    if (!(nx > a && nx < b)) nx = 0.5 * (a + b);
-    if (std::abs(nx - x) <= 4e-16 * std::max(1.0, std::abs(x)) || b - a <= 4e-16 * std::max(1.0, std::abs(x))) return nx;
-    x = nx;
+    double p = f[d], dp = 0.0, hp = 0.0;  // p, p' and p'' / 2
+    for (int k = d - 1; k >= 0; --k) {
+      hp = MulAdd(hp, x, dp);
+      dp = MulAdd(dp, x, p);
+      p = MulAdd(p, x, f[k]);
+    }
+    if (p == 0.0) return x;
+    if (Sign(p) == slo) {
+      lo = x;
+    } else {
+      hi = x;
+    }
+    // Laguerre: d p / (p' +- sqrt((d - 1) ((d - 1) p'^2 - d p p''))); Newton if the root is complex.
+    const double disc = dm1 * (dm1 * dp * dp - 2.0 * d * p * hp);
+    double step;
+    bool laguerre = disc >= 0.0;
+    if (laguerre) {
+      const double root = std::sqrt(disc);
+      step = d * p / (dp >= 0.0 ? dp + root : dp - root);
+    } else {
+      step = p / dp;
+    }
+    const double xn = x - step;
+    const double rel = std::abs(step) / std::max(std::abs(x), 1e-300);
+    if (rel <= kStepTol) return xn;
+    if (xn > lo && xn < hi) {
+      // Cubic convergence: the error after this step is about rel^4 / last_step^3.
+      if (laguerre && last_step < 1e-2 && rel < last_step &&
+          rel * rel * rel * rel <= kPredictedTol * last_step * last_step * last_step) {
+        return xn;
+      }
+      last_step = laguerre ? rel : 0.0;
+      x = xn;
+    } else {
+      x = Split(lo, hi);
+      last_step = 0.0;
+      if (hi - lo <= 4.0 * kEps * std::max(std::abs(lo), std::abs(hi))) return x;
+    }
   }
   return x;
+}
+
+int RealRoots(const double* coeffs, int degree, bool check_extrema, double* roots);
+
+// Real-root search for a polynomial a (degree n >= 3, a[0] != 0, a[n] != 0) whose real roots y
+// satisfy lower < |y| < upper. Writes at most n roots, not sorted, and returns their number.
+class RootFinder {
+ public:
+  RootFinder(const double* a, int n) : a_(a), n_(n) {
+    for (int k = 0; k < n; ++k) da_[k] = (k + 1) * a[k + 1];
+  }
+
+  int Solve(double lower, double upper, bool check_extrema, double* roots) {
+    roots_ = roots;
+    num_roots_ = 0;
+    BuildSturmChain(a_, n_, &chain_);
+    // Sign changes at 0 and +-infinity from the constant and leading coefficients; no root lies in
+    // [0, lower] or beyond upper, so these are the counts at +-lower and +-upper.
+    int sign_zero[kMaxN + 1], sign_pinf[kMaxN + 1], sign_minf[kMaxN + 1];
+    for (int i = 0; i < chain_.size; ++i) {
+      const int d = chain_.member_degree[i];
+      const int lead = Sign(chain_.t[d * kStride + i]);
+      sign_zero[i] = Sign(chain_.t[i]);
+      sign_pinf[i] = lead;
+      sign_minf[i] = (d & 1) ? -lead : lead;
+    }
+    const int v_zero = CountChanges(sign_zero, chain_.size);
+    const int v_pinf = CountChanges(sign_pinf, chain_.size);
+    const int v_minf = CountChanges(sign_minf, chain_.size);
+    const int s_zero = Sign(a_[0]), s_pinf = Sign(a_[n_]), s_minf = (n_ & 1) ? -s_pinf : s_pinf;
+    budget_ = 60 * n_ + 100;
+    top_ = 0;
+    // Negative roots first (on top of the stack), left halves before right halves: ascending order.
+    Push({lower, upper, v_zero, v_pinf, s_zero, s_pinf});
+    Push({-upper, -lower, v_minf, v_zero, s_minf, s_zero});
+    while (top_ > 0) {
+      const Interval iv = stack_[--top_];
+      Process(iv);
+    }
+    if (check_extrema && chain_.min_ratio < kNearMultipleRatio) CheckExtrema();
+    return num_roots_;
+  }
+
+ private:
+  struct Interval {
+    double lo, hi;
+    int vlo, vhi;  // Sturm sign changes at lo, hi
+    int slo, shi;  // signs of p at lo, hi
+  };
+
+  void Push(const Interval& iv) {
+    if (top_ < kStackSize) stack_[top_++] = iv;
+  }
+
+  void Process(const Interval& iv) {
+    const int count = iv.vlo - iv.vhi;
+    const bool sign_change = iv.slo * iv.shi < 0;
+    if (!sign_change && count <= 0) return;
+    const double width = iv.hi - iv.lo;
+    const double size = std::max(std::abs(iv.lo), std::abs(iv.hi));
+    const bool tiny = width <= kTinyWidth * size || budget_ <= 0 || top_ + 2 > kStackSize;
+    if (sign_change && (count <= 1 || tiny)) {
+      // A root of odd multiplicity (a count of 0 with a sign change means the chain is off).
+      AddRoot(SolveBracketed(a_, n_, iv.lo, iv.hi, iv.slo));
+      return;
+    }
+    if (!sign_change && (tiny || (count == 1 && width <= kTangentWidth * size))) {
+      NoSignChange(iv.lo, iv.hi, iv.slo);
+      return;
+    }
+    const double m = Split(iv.lo, iv.hi);
+    int sm;
+    const int vm = Evaluate(m, &sm);
+    if (sm == 0) {
+      // m is an exact root: step off it on both sides.
+      AddRoot(m);
+      const double h = width * 0x1p-12;
+      int sl, sr;
+      const int vl = Evaluate(m - h, &sl), vr = Evaluate(m + h, &sr);
+      Push({m + h, iv.hi, vr, iv.vhi, sr, iv.shi});
+      Push({iv.lo, m - h, iv.vlo, vl, iv.slo, sl});
+      return;
+    }
+    Push({m, iv.hi, vm, iv.vhi, sm, iv.shi});
+    Push({iv.lo, m, iv.vlo, vm, iv.slo, sm});
+  }
+
+  int Evaluate(double x, int* sign_p) {
+    --budget_;
+    return SignChanges(chain_, x, sign_p);
+  }
+
+  // (lo, hi) should hold roots, but p has the same sign slo at both ends: a root of even
+  // multiplicity, or two roots too close for the Sturm chain. Looks at the extremum of p in between.
+  void NoSignChange(double lo, double hi, int slo) {
+    double dlo, dhi, scale;
+    Residual(da_, n_ - 1, lo, &dlo, &scale);
+    Residual(da_, n_ - 1, hi, &dhi, &scale);
+    double xc;
+    if (Sign(dlo) * Sign(dhi) < 0) {
+      xc = SolveBracketed(da_, n_ - 1, lo, hi, Sign(dlo));
+    } else {
+      xc = Split(lo, hi);
+    }
+    double value;
+    Residual(a_, n_, xc, &value, &scale);
+    if (Sign(value) == -slo && std::abs(value) > 8.0 * (n_ + 1) * kEps * scale) {
+      // p changes sign at the extremum: two simple roots.
+      AddRoot(SolveBracketed(a_, n_, lo, xc, slo));
+      AddRoot(SolveBracketed(a_, n_, xc, hi, -slo));
+    } else {
+      AddRoot(xc);  // a multiple root, or a cluster double precision cannot separate
+    }
+  }
+
+  // The Sturm chain saw near-multiple roots: a double root may have become a close complex pair that
+  // the counts skip. Reports the extrema of p that are roots up to the residual tolerance.
+  void CheckExtrema() {
+    double extrema[kMaxN];
+    const int num = RealRoots(da_, n_ - 1, false, extrema);
+    const int num_found = num_roots_;
+    for (int i = 0; i < num; ++i) {
+      const double x = extrema[i];
+      // Only minima of |p| (p p'' > 0): the maximum of |p| between two close roots is no root.
+      double p = a_[n_], dp = 0.0, hp = 0.0;
+      for (int k = n_ - 1; k >= 0; --k) {
+        hp = MulAdd(hp, x, dp);
+        dp = MulAdd(dp, x, p);
+        p = MulAdd(p, x, a_[k]);
+      }
+      if (!(p * hp > 0.0)) continue;
+      bool known = false;
+      for (int j = 0; j < num_found && !known; ++j) {
+        known = std::abs(x - roots_[j]) <= 1e-6 * std::max(std::abs(x), std::abs(roots_[j]));
+      }
+      if (!known) AddRoot(x);
+    }
+  }
+
+  void AddRoot(double x) {
+    if (num_roots_ >= n_) return;
+    double value, scale;
+    Residual(a_, n_, x, &value, &scale);
+    if (!(std::abs(value) <= kResidualTol * scale)) return;
+    roots_[num_roots_++] = x;
+  }
+
+  static constexpr int kStackSize = 128;
+  const double* a_;
+  int n_;
+  double da_[kMaxN];
+  SturmChain chain_;
+  Interval stack_[kStackSize];
+  int top_ = 0;
+  int budget_ = 0;
+  double* roots_ = nullptr;
+  int num_roots_ = 0;
+};
+
+// Roots of c[0] + ... + c[n] x^n with n >= 1, c[0] != 0, c[n] != 0, all finite. Not sorted.
+int SolveNonzeroEnds(const double* c, int n, bool check_extrema, double* roots) {
+  if (n == 1) {
+    roots[0] = -c[0] / c[1];
+    return std::isfinite(roots[0]) ? 1 : 0;
+  }
+  if (n == 2) return SolveQuadraticReal(c[2], c[1], c[0], roots);
+  // x = 2^e y with |c_0| ~ |c_n| 2^(e n), then a power of two for max |a_k| ~ 1 (both exact).
+  int ex[kMaxN + 1];
+  for (int k = 0; k <= n; ++k) ex[k] = c[k] != 0.0 ? Exponent(c[k]) : 0;
+  const int e = static_cast<int>(std::lround((ex[0] - ex[n]) * kInverse[n]));
+  int emax = ex[0];
+  for (int k = 1; k <= n; ++k) {
+    if (c[k] != 0.0) emax = std::max(emax, ex[k] + k * e);
+  }
+  const int f = -emax;
+  double a[kMaxN + 1];
+  if (std::max(std::abs(f), std::abs(n * e + f)) <= 1000 && std::abs(e) <= 1000) {
+    const double step = Pow2(e);
+    double factor = Pow2(f);
+    for (int k = 0; k <= n; ++k, factor *= step) a[k] = c[k] * factor;
+  } else {
+    for (int k = 0; k <= n; ++k) a[k] = std::ldexp(c[k], k * e + f);
+  }
+  if (a[0] == 0.0 || a[n] == 0.0 || !std::isfinite(a[0]) || !std::isfinite(a[n])) return 0;
+  // Fujiwara: |y| < 2 max_k |a_k / a_n|^(1 / (n - k)); the same for 1 / y from the reversed
+  // polynomial. Rounded up to powers of two, plus a factor 2 of margin.
+  // (A quotient rounded up makes the bound at most 2x looser, never wrong.)
+  double upper_log2 = -1100.0, lower_log2 = -1100.0;
+  const int ea0 = Exponent(a[0]), ean = Exponent(a[n]);
+  for (int k = 0; k < n; ++k) {
+    if (a[k] != 0.0) upper_log2 = std::max(upper_log2, (Exponent(a[k]) + 1 - ean) * kInverse[n - k]);
+  }
+  for (int k = 1; k <= n; ++k) {
+    if (a[k] != 0.0) lower_log2 = std::max(lower_log2, (Exponent(a[k]) + 1 - ea0) * kInverse[k]);
+  }
+  const int upper_exp = std::min(static_cast<int>(std::ceil(upper_log2)) + 2, 1000);
+  const int lower_exp = std::min(static_cast<int>(std::ceil(lower_log2)) + 2, 1000);
+  RootFinder finder(a, n);
+  const int num = finder.Solve(Pow2(-lower_exp), Pow2(upper_exp), check_extrema, roots);
+  int out = 0;
+  for (int i = 0; i < num; ++i) {
+    const double x = std::abs(e) <= 1000 ? roots[i] * Pow2(e) : std::ldexp(roots[i], e);
+    if (std::isfinite(x)) roots[out++] = x;
+  }
+  return out;
+}
+
+int RealRoots(const double* coeffs, int degree, bool check_extrema, double* roots) {
+  if (degree < 1 || degree > kMaxPolynomialDegree) return 0;
+  for (int i = 0; i <= degree; ++i) {
+    if (!std::isfinite(coeffs[i])) return 0;
+  }
+  int n = degree;
+  while (n > 0 && coeffs[n] == 0.0) --n;
+  if (n == 0) return 0;
+  int low = 0;  // multiplicity of the root 0
+  while (coeffs[low] == 0.0) ++low;
+  const double* c = coeffs + low;
+  int m = n - low;
+  // Drop leading coefficients that only add roots more than 2^kDropLog2 times larger than all others.
+  while (m >= 2) {
+    int j = m - 1;
+    while (c[j] == 0.0) --j;
+    if (j == 0) break;
+    // log2 of the size of the roots c_m adds, and of the root bound of the rest.
+    const int ej = Exponent(c[j]);
+    const double big = (ej - Exponent(c[m])) * kInverse[m - j];
+    double rest = (Exponent(c[0]) - ej) * kInverse[j];
+    if (big - rest <= kDropLog2) break;  // the usual case: rest can only grow
+    for (int k = 1; k < j; ++k) {
+      if (c[k] != 0.0) rest = std::max(rest, (Exponent(c[k]) - ej) * kInverse[j - k]);
+    }
+    if (big - rest <= kDropLog2) break;
+    m = j;
+  }
+  int num = m >= 1 ? SolveNonzeroEnds(c, m, check_extrema, roots) : 0;
+  if (low > 0) roots[num++] = 0.0;
+  // Ascending order, multiple roots once.
+  std::sort(roots, roots + num);
+  int out = 0;
+  for (int i = 0; i < num; ++i) {
+    if (out > 0 && roots[i] - roots[out - 1] <= 4.0 * kEps * std::abs(roots[i])) continue;
+    roots[out++] = roots[i];
+  }
+  return out;
 }
 
 }  // namespace
@@ -103,62 +586,7 @@ int SolveQuadraticReal(double a, double b, double c, double roots[2]) {
 }
 
 int SolveRealPolynomialRoots(const double* coeffs, int degree, double* roots) {
-  if (degree < 1 || degree > kMaxPolynomialDegree) return 0;
-  double cmax = 0.0;
-  for (int i = 0; i <= degree; ++i) {
-    if (!std::isfinite(coeffs[i])) return 0;
-    cmax = std::max(cmax, std::abs(coeffs[i]));
-  }
-  if (cmax == 0.0) return 0;
-  while (degree > 0 && std::abs(coeffs[degree]) <= 1e-15 * cmax) --degree;
-  if (degree == 0) return 0;
-  if (degree == 1) {
-    roots[0] = -coeffs[0] / coeffs[1];
-    return 1;
-  }
-  if (degree == 2) return SolveQuadraticReal(coeffs[2], coeffs[1], coeffs[0], roots);
-
-  Sturm st;
-  Poly& p = st.s[0];
-  p.degree = degree;
-  for (int i = 0; i <= degree; ++i) p.c[i] = coeffs[i] / coeffs[degree];
-  Poly& dp = st.s[1];
-  dp.degree = degree - 1;
-  for (int i = 1; i <= degree; ++i) dp.c[i - 1] = i * p.c[i];
-  st.n = 2;
-  while (st.n <= degree && st.s[st.n - 1].degree > 0) {
-    NegRemainder(st.s[st.n - 2], st.s[st.n - 1], &st.s[st.n]);
-    if (st.s[st.n].degree < 0) break;
-    ++st.n;
-  }
-
-  // Cauchy bound on the magnitude of the roots of the monic p.
-  double bound = 0.0;
-  for (int i = 0; i < degree; ++i) bound = std::max(bound, std::abs(p.c[i]));
-  bound += 1.0;
-
-  struct Interval { double a, b; int ca, cb; int depth; };
-  Interval stack[2 * kMaxPolynomialDegree * 64 + 4];
-  int top = 0;
-  stack[top++] = {-bound, bound, st.SignChanges(-bound), st.SignChanges(bound), 0};
-  int found = 0;
-  while (top > 0) {
-    const Interval iv = stack[--top];
-    const int count = iv.ca - iv.cb;
-    if (count <= 0) continue;
-    const double width = iv.b - iv.a;
-    if (count == 1 || iv.depth > 60 || width <= 1e-14 * std::max(1.0, std::abs(iv.a))) {
-      if (found < degree) roots[found++] = Polish(p, dp, iv.a, iv.b);
-      continue;
-    }
-    const double m = 0.5 * (iv.a + iv.b);
-    const int cm = st.SignChanges(m);
-    if (top + 2 > static_cast<int>(sizeof(stack) / sizeof(stack[0]))) continue;
-    stack[top++] = {m, iv.b, cm, iv.cb, iv.depth + 1};
-    stack[top++] = {iv.a, m, iv.ca, cm, iv.depth + 1};
-  }
-  std::sort(roots, roots + found);
-  return found;
+  return RealRoots(coeffs, degree, true, roots);
 }
 
 }  // namespace madsfm

@@ -1,0 +1,306 @@
+#include "colmap_ext/exe/pair_commands.h"
+
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "colmap_ext/exe/option_parser.h"
+#include "madsfm/geometry/pose_error.h"
+#include "madsfm/io/pair_directory.h"
+
+namespace madsfm {
+namespace {
+
+struct EstimatorFlags {
+  HybridEstimatorOptions options;
+  void Add(OptionParser* parser) {
+    parser->AddDefault("reproj_threshold", &options.reproj_threshold,
+                       "Inlier threshold of the depth-induced reprojection error, pixels (paper: 8 indoor, 16 outdoor).");
+    parser->AddDefault("epipolar_threshold", &options.epipolar_threshold,
+                       "Inlier threshold of the Sampson error, pixels (paper: 2 on 640x480, 1 on larger images).");
+    parser->AddDefault("sampson_weight", &options.sampson_weight, "lambda_s, weight of the Sampson term.");
+    parser->AddDefault("min_iterations", &options.min_iterations, "Minimum RANSAC iterations.");
+    parser->AddDefault("max_iterations", &options.max_iterations, "Maximum RANSAC iterations.");
+    parser->AddDefault("num_lo_steps", &options.num_lo_steps, "Local-optimisation rounds per new best model.");
+    parser->AddDefault("confidence", &options.confidence, "Confidence of the adaptive stopping criterion.");
+  }
+};
+
+nlohmann::json ResultJson(const PairResult& r) {
+  nlohmann::json j;
+  j["pair"] = r.pair;
+  j["method"] = r.method;
+  j["camera_mode"] = r.camera_mode;
+  j["status"] = r.success ? "ok" : "failed";
+  j["num_matches"] = r.num_matches;
+  j["num_matches_with_depth"] = r.num_with_depth;
+  if (r.success) {
+    std::vector<double> R(9);
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) R[3 * i + k] = r.model.R(i, k);
+    j["R"] = R;
+    j["t"] = {r.model.t.x(), r.model.t.y(), r.model.t.z()};
+    j["scale"] = r.model.scale;
+    j["shift0"] = r.model.shift0;
+    j["shift1"] = r.model.shift1;
+    j["f0"] = r.model.f0;
+    j["f1"] = r.model.f1;
+    j["inliers"] = {{"reproj_0to1", r.num_inliers_reproj0},
+                    {"reproj_1to0", r.num_inliers_reproj1},
+                    {"sampson", r.num_inliers_sampson}};
+  }
+  j["iterations"] = r.iterations;
+  j["runtime_ms"] = r.runtime_ms;
+  if (r.rot_err_deg) j["rot_err_deg"] = *r.rot_err_deg;
+  if (r.trans_err_deg) j["trans_err_deg"] = *r.trans_err_deg;
+  if (r.focal_err) j["focal_err"] = *r.focal_err;
+  if (!r.notes.empty()) j["notes"] = r.notes;
+  return j;
+}
+
+std::vector<std::string> SplitComma(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    if (!item.empty()) out.push_back(item);
+  }
+  return out;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string Fmt(double v, int precision = 2) {
+  if (!std::isfinite(v)) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%.*f", precision, v);
+  return buf;
+}
+
+}  // namespace
+
+MethodSummary Summarize(const std::string& method, const std::vector<PairResult>& results, bool two_focal) {
+  MethodSummary s;
+  s.method = method;
+  s.auc_thresholds = two_focal ? std::vector<double>{2, 5, 10, 20} : std::vector<double>{5, 10, 20};
+  std::vector<double> rot, trans, focal, pose, runtime;
+  for (const PairResult& r : results) {
+    if (r.method != method) continue;
+    ++s.runs;
+    s.failures += !r.success;
+    runtime.push_back(r.runtime_ms);
+    if (r.rot_err_deg && r.trans_err_deg) {
+      s.has_ground_truth = true;
+      rot.push_back(*r.rot_err_deg);
+      trans.push_back(*r.trans_err_deg);
+      pose.push_back(std::max(*r.rot_err_deg, *r.trans_err_deg));
+    }
+    if (r.focal_err) {
+      s.has_focal = true;
+      focal.push_back(*r.focal_err);
+    }
+  }
+  s.median_rot_err = Median(rot);
+  s.median_trans_err = Median(trans);
+  s.median_focal_err = Median(focal);
+  s.auc = pose.empty() ? std::vector<double>(s.auc_thresholds.size(), std::nan("")) : PoseAuc(pose, s.auc_thresholds);
+  s.median_runtime_ms = Median(runtime);
+  double sum = 0;
+  for (double t : runtime) sum += t;
+  s.mean_runtime_ms = runtime.empty() ? std::nan("") : sum / runtime.size();
+  return s;
+}
+
+int RunPair(int argc, char** argv) {
+  std::string pair_path, camera_mode = "calibrated", method = "hybrid";
+  int seed = 0;
+  EstimatorFlags flags;
+  OptionParser parser("pair",
+                      "Estimates the relative pose, depth scale/shifts (and focal lengths) of one pair directory\n"
+                      "(docs/formats.md) and prints the result as JSON, with errors against T_0to1 if present.");
+  parser.AddRequired("pair_path", &pair_path, "Pair directory holding info.json.");
+  parser.AddDefault("camera_mode", &camera_mode, "calibrated | shared_focal | two_focal.");
+  parser.AddDefault("method", &method, "hybrid | points | depth_only | no_shift | sampson_score.");
+  parser.AddDefault("seed", &seed, "Random seed.");
+  flags.Add(&parser);
+  if (!parser.Parse(argc, argv, 2)) return EXIT_FAILURE;
+  if (parser.help_requested()) return EXIT_SUCCESS;
+  try {
+    const CameraMode mode = ParseCameraMode(camera_mode);
+    OptionsForMethod(method, flags.options);  // validates the name
+    flags.options.seed = static_cast<uint64_t>(seed);
+    flags.options.Check();
+    PairReadOptions read_options;
+    read_options.allow_missing_depth = true;
+    const PairData pair = ReadPairDirectory(pair_path, read_options);
+    const PairResult r = EvaluatePair(pair, mode, method, flags.options);
+    for (const std::string& note : r.notes) std::fprintf(stderr, "madsfm pair: note: %s\n", note.c_str());
+    std::cout << ResultJson(r).dump(2) << std::endl;
+    return r.success ? EXIT_SUCCESS : EXIT_FAILURE;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "madsfm pair: error: %s\n", e.what());
+    return EXIT_FAILURE;
+  }
+}
+
+int RunBench(int argc, char** argv) {
+  std::vector<std::string> pairs_paths;
+  std::string camera_mode = "calibrated", methods_arg = "hybrid,points", output_path;
+  int num_threads = -1, seed = 0, num_seeds = 1;
+  EstimatorFlags flags;
+  OptionParser parser("bench",
+                      "Runs estimator methods on many pair directories and prints, per method: pairs, failures,\n"
+                      "median rotation / translation / focal error, pose-error AUC and runtime.");
+  parser.AddMulti("pairs_path", &pairs_paths, true,
+                  "Pair directory, directory of pair directories, or pairs.txt list (several allowed).");
+  parser.AddDefault("camera_mode", &camera_mode, "calibrated | shared_focal | two_focal.");
+  parser.AddDefault("method", &methods_arg, "Comma-separated methods: hybrid, points, depth_only, no_shift, sampson_score.");
+  parser.AddDefault("num_threads", &num_threads, "Threads over pairs (-1: all cores). Runtimes are per call.");
+  parser.AddDefault("output_path", &output_path, "If set, writes per_pair.csv and summary.json into this directory.");
+  parser.AddDefault("seed", &seed, "Random seed of the first run.");
+  parser.AddDefault("num_seeds", &num_seeds, "Runs per pair and method, with seeds seed, seed+1, ...");
+  flags.Add(&parser);
+  if (!parser.Parse(argc, argv, 2)) return EXIT_FAILURE;
+  if (parser.help_requested()) return EXIT_SUCCESS;
+  try {
+    const CameraMode mode = ParseCameraMode(camera_mode);
+    const std::vector<std::string> methods = SplitComma(methods_arg);
+    if (methods.empty()) throw std::invalid_argument("--method is empty");
+    for (const std::string& m : methods) OptionsForMethod(m, flags.options);
+    if (num_seeds < 1) throw std::invalid_argument("--num_seeds must be >= 1");
+    flags.options.Check();
+
+    std::vector<std::string> dirs;
+    for (const std::string& p : pairs_paths) {
+      const auto listed = ReadPairList(p);
+      dirs.insert(dirs.end(), listed.begin(), listed.end());
+    }
+    std::vector<PairData> pairs;
+    pairs.reserve(dirs.size());
+    PairReadOptions read_options;
+    read_options.allow_missing_depth = true;
+    for (const std::string& d : dirs) pairs.push_back(ReadPairDirectory(d, read_options));
+
+    struct Job { int pair, method, seed; };
+    std::vector<Job> jobs;
+    for (int pi = 0; pi < static_cast<int>(pairs.size()); ++pi)
+      for (int mi = 0; mi < static_cast<int>(methods.size()); ++mi)
+        for (int s = 0; s < num_seeds; ++s) jobs.push_back({pi, mi, seed + s});
+    std::vector<PairResult> results(jobs.size());
+    const int threads = num_threads > 0 ? num_threads : std::max(1u, std::thread::hardware_concurrency());
+    std::atomic<int> next{0}, done{0};
+    std::mutex progress_mutex;
+    const bool tty = isatty(STDERR_FILENO);
+    auto worker = [&]() {
+      for (int j; (j = next++) < static_cast<int>(jobs.size());) {
+        HybridEstimatorOptions o = flags.options;
+        o.seed = static_cast<uint64_t>(jobs[j].seed);
+        results[j] = EvaluatePair(pairs[jobs[j].pair], mode, methods[jobs[j].method], o);
+        const int d = ++done;
+        std::lock_guard<std::mutex> lock(progress_mutex);
+        const int total = static_cast<int>(jobs.size());
+        if (tty) {
+          const int width = 30, filled = width * d / total;
+          std::fprintf(stderr, "\rbench [%s%s] %d/%d runs", std::string(filled, '#').c_str(),
+                       std::string(width - filled, ' ').c_str(), d, total);
+          if (d == total) std::fprintf(stderr, "\n");
+        } else if (d == total || d % std::max(1, total / 10) == 0) {
+          std::fprintf(stderr, "bench: %d/%d runs\n", d, total);
+        }
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
+    for (auto& t : pool) t.join();
+
+    const bool two_focal = mode == CameraMode::kTwoFocal;
+    nlohmann::json summary_json;
+    summary_json["camera_mode"] = camera_mode;
+    summary_json["num_pairs"] = pairs.size();
+    summary_json["num_seeds"] = num_seeds;
+    summary_json["reproj_threshold"] = flags.options.reproj_threshold;
+    summary_json["epipolar_threshold"] = flags.options.epipolar_threshold;
+    std::cout << "camera_mode " << camera_mode << ", " << pairs.size() << " pairs x " << num_seeds << " seeds, tau_r "
+              << flags.options.reproj_threshold << " px, tau_s " << flags.options.epipolar_threshold << " px\n\n";
+    std::ostringstream header, rule;
+    header << "| method | runs | failures | med rot (deg) | med trans (deg) |";
+    rule << "|---|---|---|---|---|";
+    if (mode != CameraMode::kCalibrated) { header << " med focal err |"; rule << "---|"; }
+    const MethodSummary probe = Summarize(methods[0], results, two_focal);
+    for (double t : probe.auc_thresholds) { header << " AUC@" << t << " |"; rule << "---|"; }
+    header << " med ms | mean ms |";
+    rule << "---|---|";
+    std::cout << header.str() << "\n" << rule.str() << "\n";
+    for (const std::string& m : methods) {
+      const MethodSummary s = Summarize(m, results, two_focal);
+      std::cout << "| " << m << " | " << s.runs << " | " << s.failures << " | " << Fmt(s.median_rot_err) << " | "
+                << Fmt(s.median_trans_err) << " |";
+      if (mode != CameraMode::kCalibrated) std::cout << " " << Fmt(100 * s.median_focal_err) << "% |";
+      for (double a : s.auc) std::cout << " " << Fmt(100 * a) << " |";
+      std::cout << " " << Fmt(s.median_runtime_ms) << " | " << Fmt(s.mean_runtime_ms) << " |\n";
+      nlohmann::json mj;
+      mj["runs"] = s.runs;
+      mj["failures"] = s.failures;
+      if (s.has_ground_truth) {
+        mj["median_rot_err_deg"] = s.median_rot_err;
+        mj["median_trans_err_deg"] = s.median_trans_err;
+        for (size_t k = 0; k < s.auc.size(); ++k) mj["auc@" + Fmt(s.auc_thresholds[k], 0)] = s.auc[k];
+      }
+      if (s.has_focal) mj["median_focal_err"] = s.median_focal_err;
+      mj["median_runtime_ms"] = s.median_runtime_ms;
+      mj["mean_runtime_ms"] = s.mean_runtime_ms;
+      summary_json["methods"][m] = mj;
+    }
+
+    if (!output_path.empty()) {
+      std::filesystem::create_directories(output_path);
+      const std::string csv_path = (std::filesystem::path(output_path) / "per_pair.csv").string();
+      std::ofstream csv(csv_path);
+      if (!csv) throw std::runtime_error("cannot write '" + csv_path + "'");
+      csv << "pair,method,camera_mode,status,qw,qx,qy,qz,tx,ty,tz,f0,f1,scale,shift0,shift1,num_inliers,runtime_ms,"
+             "rot_err_deg,trans_err_deg,focal_err\n";
+      csv.precision(10);
+      auto opt = [](const std::optional<double>& v) { return v ? std::to_string(*v) : std::string(); };
+      for (const PairResult& r : results) {
+        const Eigen::Quaterniond q(r.model.R);
+        csv << '"' << r.pair << "\"," << r.method << ',' << r.camera_mode << ',' << (r.success ? "ok" : "failed");
+        if (r.success) {
+          csv << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << r.model.t.x() << ','
+              << r.model.t.y() << ',' << r.model.t.z() << ',' << r.model.f0 << ',' << r.model.f1 << ','
+              << r.model.scale << ',' << r.model.shift0 << ',' << r.model.shift1 << ',' << r.num_inliers_sampson;
+        } else {
+          csv << ",,,,,,,,,,,,,0";
+        }
+        csv << ',' << r.runtime_ms << ',' << opt(r.rot_err_deg) << ',' << opt(r.trans_err_deg) << ','
+            << opt(r.focal_err) << '\n';
+      }
+      const std::string json_path = (std::filesystem::path(output_path) / "summary.json").string();
+      std::ofstream js(json_path);
+      if (!js) throw std::runtime_error("cannot write '" + json_path + "'");
+      js << summary_json.dump(2) << "\n";
+      std::fprintf(stderr, "bench: wrote %s and %s\n", csv_path.c_str(), json_path.c_str());
+    }
+    return EXIT_SUCCESS;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "madsfm bench: error: %s\n", e.what());
+    return EXIT_FAILURE;
+  }
+}
+
+}  // namespace madsfm

@@ -1,0 +1,28 @@
+// `madsfm pair` (one pair directory -> JSON) and `madsfm bench` (many pairs -> tables, CSV, JSON).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "madsfm/estimators/pair_evaluation.h"
+
+namespace madsfm {
+
+int RunPair(int argc, char** argv);
+int RunBench(int argc, char** argv);
+
+// Aggregate statistics of one method over many runs (what `bench` prints and writes to summary.json).
+struct MethodSummary {
+  std::string method;
+  int runs = 0;
+  int failures = 0;
+  double median_rot_err = 0, median_trans_err = 0, median_focal_err = 0;
+  std::vector<double> auc;  // at the thresholds below
+  std::vector<double> auc_thresholds;
+  double median_runtime_ms = 0, mean_runtime_ms = 0;
+  bool has_ground_truth = false;
+  bool has_focal = false;
+};
+MethodSummary Summarize(const std::string& method, const std::vector<PairResult>& results, bool two_focal);
+
+}  // namespace madsfm

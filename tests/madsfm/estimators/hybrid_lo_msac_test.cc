@@ -1,0 +1,174 @@
+#include "madsfm/estimators/hybrid_lo_msac.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "madsfm/estimators/msac_scoring.h"
+#include "madsfm/geometry/pose_error.h"
+#include "testing/problem_from_instance.h"
+#include "testing/solver_instances.h"
+
+namespace madsfm {
+namespace {
+
+using testing::CameraSetup;
+
+// A noise-free instance with `num_inliers` correspondences plus outliers (view-1 coordinates and
+// both priors replaced by random values, redrawn until they are > 10 px from consistent under the
+// ground truth in every data type, so that the inlier set is unambiguous). Returns the inlier flags.
+RelposeProblem MakeProblemWithOutliers(std::mt19937& rng, CameraSetup setup, int num_inliers, double outlier_ratio,
+                                       testing::SolverInstance* inst, std::vector<char>* is_inlier) {
+  testing::SolverInstanceOptions opt;
+  opt.setup = setup;
+  const int n = static_cast<int>(std::round(num_inliers / (1.0 - outlier_ratio)));
+  opt.num_points = n;
+  *inst = testing::MakeSolverInstance(rng, opt);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double unit = setup == CameraSetup::kCalibrated ? 1.0 : inst->focal1;
+  is_inlier->assign(n, 1);
+  const double pix0 = setup == CameraSetup::kCalibrated ? inst->focal0 : 1.0;
+  const double pix1 = setup == CameraSetup::kCalibrated ? inst->focal1 : 1.0;
+  const ModelResiduals gt(inst->gt, pix0, pix1);
+  for (int i = num_inliers; i < n; ++i) {
+    const double d0 = inst->d0[i], d1 = inst->d1[i];
+    const double unit0 = setup == CameraSetup::kCalibrated ? 1.0 : inst->focal0;
+    do {
+      // Both ends are redrawn: a point at the epipole is consistent with every match.
+      inst->x0[i] = Eigen::Vector2d(0.6 * u(rng), 0.45 * u(rng)) * unit0;
+      inst->x1[i] = Eigen::Vector2d(0.6 * u(rng), 0.45 * u(rng)) * unit;
+      inst->d0[i] = d0 * std::exp(u(rng));
+      inst->d1[i] = d1 * std::exp(u(rng));
+    } while (gt.Sampson(inst->x0[i], inst->x1[i]) < 100.0 ||
+             gt.Reprojection01(inst->x0[i], inst->x1[i], inst->d0[i]) < 100.0 ||
+             gt.Reprojection10(inst->x0[i], inst->x1[i], inst->d1[i]) < 100.0);
+    (*is_inlier)[i] = 0;
+  }
+  return testing::ProblemFromInstance(*inst, setup);
+}
+
+class HybridEstimatorTest : public ::testing::TestWithParam<CameraSetup> {};
+
+TEST_P(HybridEstimatorTest, RecoversGroundTruthWithHalfOutliers) {
+  std::mt19937 rng(21);
+  const int kTrials = 30;
+  int recovered = 0, exact_masks = 0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    testing::SolverInstance inst;
+    std::vector<char> is_inlier;
+    RelposeProblem p = MakeProblemWithOutliers(rng, GetParam(), 100, 0.5, &inst, &is_inlier);
+    p.min_focal = 50;
+    p.max_focal = 1e5;
+    HybridEstimatorOptions o;
+    o.seed = trial;
+    o.reproj_threshold = 2.0;
+    o.epipolar_threshold = 1.0;
+    const HybridEstimate est = EstimateHybridRelpose(p, o);
+    if (!est.success) continue;
+    recovered += testing::ModelError(est.model, inst) < 1e-6;
+    bool exact = true;
+    for (int i = 0; i < p.size(); ++i) exact &= (est.inliers_reproj0[i] != 0) == (is_inlier[i] != 0);
+    exact_masks += exact;
+  }
+  std::printf("hybrid estimator (%d): ground truth recovered (1e-6) in %d/%d, exact inlier mask in %d/%d\n",
+              static_cast<int>(GetParam()), recovered, kTrials, exact_masks, kTrials);
+  EXPECT_GE(recovered, kTrials * 95 / 100);
+  EXPECT_GE(exact_masks, kTrials * 90 / 100);
+}
+
+TEST_P(HybridEstimatorTest, PointOnlyBaselineRecoversPoseWithHalfOutliers) {
+  std::mt19937 rng(22);
+  const int kTrials = 30;
+  int recovered = 0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    testing::SolverInstance inst;
+    std::vector<char> is_inlier;
+    RelposeProblem p = MakeProblemWithOutliers(rng, GetParam(), 100, 0.5, &inst, &is_inlier);
+    p.min_focal = 50;
+    p.max_focal = 1e5;
+    HybridEstimatorOptions o;
+    o.seed = trial;
+    o.solvers = SolverChoice::kPointsOnly;
+    o.scoring = ScoringMode::kSampsonOnly;
+    o.epipolar_threshold = 1.0;
+    const HybridEstimate est = EstimateHybridRelpose(p, o);
+    if (!est.success) continue;
+    recovered += RotationErrorDeg(est.model.R, inst.gt.R) < 1e-4 && TranslationErrorDeg(est.model.t, inst.gt.t) < 1e-3;
+  }
+  std::printf("point-only estimator (%d): pose recovered in %d/%d\n", static_cast<int>(GetParam()), recovered, kTrials);
+  // The two-focal point baseline (7pt + Bougnoux) is fragile by nature; the others must be reliable.
+  EXPECT_GE(recovered, GetParam() == CameraSetup::kTwoFocal ? kTrials * 70 / 100 : kTrials * 90 / 100);
+}
+
+TEST_P(HybridEstimatorTest, SameSeedGivesSameResult) {
+  std::mt19937 rng(23);
+  testing::SolverInstance inst;
+  std::vector<char> is_inlier;
+  RelposeProblem p = MakeProblemWithOutliers(rng, GetParam(), 60, 0.4, &inst, &is_inlier);
+  HybridEstimatorOptions o;
+  o.seed = 77;
+  const HybridEstimate a = EstimateHybridRelpose(p, o);
+  const HybridEstimate b = EstimateHybridRelpose(p, o);
+  ASSERT_TRUE(a.success);
+  EXPECT_EQ(a.model.R, b.model.R);
+  EXPECT_EQ(a.model.t, b.model.t);
+  EXPECT_EQ(a.model.scale, b.model.scale);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.inliers_sampson, b.inliers_sampson);
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, HybridEstimatorTest,
+                         ::testing::Values(CameraSetup::kCalibrated, CameraSetup::kSharedFocal, CameraSetup::kTwoFocal));
+
+TEST(HybridEstimator, FallsBackToPointsWithoutDepth) {
+  std::mt19937 rng(24);
+  testing::SolverInstance inst;
+  std::vector<char> is_inlier;
+  RelposeProblem p = MakeProblemWithOutliers(rng, CameraSetup::kCalibrated, 80, 0.3, &inst, &is_inlier);
+  for (double& d : p.d1) d = std::nan("");
+  p.IndexDepths();
+  ASSERT_TRUE(p.with_both_depths.empty());
+  HybridEstimatorOptions o;
+  o.epipolar_threshold = 1.0;
+  const HybridEstimate est = EstimateHybridRelpose(p, o);
+  ASSERT_TRUE(est.success);
+  EXPECT_EQ(est.num_depth_samples, 0);
+  EXPECT_GT(est.num_point_samples, 0);
+  EXPECT_LT(RotationErrorDeg(est.model.R, inst.gt.R), 1e-4);
+  EXPECT_EQ(est.num_inliers_reproj1, 0);
+}
+
+TEST(HybridEstimator, TooFewCorrespondencesFailCleanly) {
+  RelposeProblem p;
+  p.mode = CameraMode::kCalibrated;
+  p.x0 = {{0.1, 0.1}, {0.2, 0.1}};
+  p.x1 = {{0.1, 0.1}, {0.2, 0.1}};
+  p.d0 = {1.0, 2.0};
+  p.d1 = {1.0, 2.0};
+  p.IndexDepths();
+  const HybridEstimate est = EstimateHybridRelpose(p, HybridEstimatorOptions());
+  EXPECT_FALSE(est.success);
+  EXPECT_EQ(est.iterations, 0);
+}
+
+TEST(HybridEstimatorOptions, CheckRejectsBadValues) {
+  HybridEstimatorOptions o;
+  EXPECT_NO_THROW(o.Check());
+  o.reproj_threshold = -1;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+  o = HybridEstimatorOptions();
+  o.max_iterations = 10;
+  o.min_iterations = 20;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+  o = HybridEstimatorOptions();
+  o.confidence = 1.0;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+  o = HybridEstimatorOptions();
+  o.solvers = SolverChoice::kDepthOnly;
+  o.scoring = ScoringMode::kSampsonOnly;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace madsfm
