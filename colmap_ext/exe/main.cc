@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "colmap_ext/exe/pair_commands.h"
+#include "colmap_ext/exe/synth_command.h"
 
 namespace {
 
@@ -21,6 +22,7 @@ const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
       {"pair", madsfm::RunPair, "Estimate one pair directory (relative pose, depth scale/shifts, focals) -> JSON"},
       {"bench", madsfm::RunBench, "Run methods over many pair directories -> accuracy/runtime tables, CSV"},
+      {"synth", madsfm::RunSynth, "Write synthetic two-view pair directories with ground truth"},
   };
   return commands;
 }

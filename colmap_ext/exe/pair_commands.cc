@@ -34,6 +34,8 @@ struct EstimatorFlags {
     parser->AddDefault("max_iterations", &options.max_iterations, "Maximum RANSAC iterations.");
     parser->AddDefault("num_lo_steps", &options.num_lo_steps, "Local-optimisation rounds per new best model.");
     parser->AddDefault("confidence", &options.confidence, "Confidence of the adaptive stopping criterion.");
+    parser->AddDefault("final_reprojection_weight", &options.final_reprojection_weight,
+                       "Weight of the reprojection terms in a last refinement (1: the paper's joint cost only).");
   }
 };
 

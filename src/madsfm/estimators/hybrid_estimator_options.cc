@@ -23,6 +23,8 @@ void HybridEstimatorOptions::Check() const {
   Require(confidence > 0 && confidence < 1, "confidence must be in (0, 1)");
   Require(num_lo_steps >= 0, "num_lo_steps must be >= 0");
   Require(lo_max_lm_iterations >= 0, "lo_max_lm_iterations must be >= 0");
+  Require(final_reprojection_weight >= 0 && final_reprojection_weight <= 1,
+          "final_reprojection_weight must be in [0, 1]");
   Require(final_max_lm_iterations >= 0, "final_max_lm_iterations must be >= 0");
   Require(!(solvers == SolverChoice::kDepthOnly && scoring == ScoringMode::kSampsonOnly),
           "the depth-only solver needs depth residuals in the score");

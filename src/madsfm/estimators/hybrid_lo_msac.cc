@@ -47,6 +47,7 @@ class Engine {
  private:
   void LocalOptimize(AffineDepthPose* model, double* score, bool from_point_solver);
   bool Refine(AffineDepthPose* model, const InlierSets& inliers, int max_iterations);
+  void LeanOnEpipolarEvidence(AffineDepthPose* model, double* score);
 
   const RelposeProblem& p_;
   const HybridEstimatorOptions& o_;
@@ -63,6 +64,39 @@ bool Engine::Refine(AffineDepthPose* model, const InlierSets& in, int max_iterat
   ro.sampson_weight = w_.sampson_weight;
   ro.refine_shift = w_.use_shift;
   return RefineRelpose(p_, in.reproj0, in.reproj1, in.sampson, ro, model);
+}
+
+// The last refinement with down-weighted reprojection terms (options.final_reprojection_weight): the
+// depth priors have picked the hypothesis, the inliers and the focal lengths; the epipolar evidence of
+// accurate matches then sets the pose, which monocular depth biases when it is distorted. Rounds of
+// (refine, re-select inliers); a round is kept only if it keeps >= 95% of the epipolar inliers.
+// Levenberg-Marquardt starts at the joint estimate, so directions the epipolar cost leaves flat
+// (small baselines) stay close to it.
+void Engine::LeanOnEpipolarEvidence(AffineDepthPose* model, double* score) {
+  const bool epipolar_only = o_.final_reprojection_weight == 0.0;
+  RelposeRefinerOptions ro;
+  ro.max_iterations = o_.final_max_lm_iterations;
+  ro.sampson_weight = w_.sampson_weight;
+  ro.refine_shift = w_.use_shift;
+  ro.reprojection_weight = o_.final_reprojection_weight;
+  ro.refine_focal = !epipolar_only;
+  const std::vector<int> none;
+  for (int round = 0; round < 3; ++round) {
+    AffineDepthPose refined = *model;
+    if (!RefineRelpose(p_, epipolar_only ? none : inliers_.reproj0, epipolar_only ? none : inliers_.reproj1,
+                       inliers_.sampson, ro, &refined)) {
+      return;
+    }
+    if (epipolar_only) FitDepthParameters(p_, inliers_.sampson, w_.use_shift, &refined);
+    InlierSets check;
+    ComputeInliers(p_, refined, w_, &check);
+    if (check.sampson.size() < 0.95 * inliers_.sampson.size()) return;
+    const bool same_inliers = check.sampson == inliers_.sampson;
+    *model = refined;
+    *score = ScoreModel(p_, refined, w_);
+    inliers_ = check;
+    if (same_inliers) return;
+  }
 }
 
 void Engine::LocalOptimize(AffineDepthPose* model, double* score, bool from_point_solver) {
@@ -165,6 +199,10 @@ HybridEstimate Engine::Run() {
         best_score = s;
         ComputeInliers(p_, best, w_, &inliers_);
       }
+    }
+    if (o_.final_refinement && o_.final_reprojection_weight < 1.0 && w_.use_reprojection && w_.use_sampson &&
+        !inliers_.sampson.empty()) {
+      LeanOnEpipolarEvidence(&best, &best_score);
     }
     if (!w_.use_reprojection) {
       // Sampson-only scoring leaves scale and shifts as the sample gave them: fit them on all

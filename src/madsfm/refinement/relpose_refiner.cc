@@ -18,11 +18,13 @@ enum Param { kRot = 0, kTrans = 3, kShift0 = 6, kShift1 = 7, kScale = 8, kF0 = 9
 // Evaluates every residual and (optionally) its Jacobian row, calling sink(residual, row) for each.
 template <bool kWithJacobian, typename Sink>
 bool ForEachResidual(const RelposeProblem& p, const std::vector<int>& I0, const std::vector<int>& I1,
-                     const std::vector<int>& Is, double sampson_weight, const AffineDepthPose& m, Sink&& sink) {
+                     const std::vector<int>& Is, double sampson_weight, const AffineDepthPose& m, Sink&& sink,
+                     double reprojection_weight = 1.0) {
   const Eigen::Matrix3d& R = m.R;
   const Eigen::Matrix3d Rt = R.transpose();
   const double f0 = m.f0, f1 = m.f1;
-  const double ps0 = p.pixel_scale0, ps1 = p.pixel_scale1;
+  const double rw = std::sqrt(reprojection_weight);
+  const double ps0 = p.pixel_scale0 * rw, ps1 = p.pixel_scale1 * rw;
   Row11d row0, row1;
 
   for (int i : I0) {
@@ -116,7 +118,7 @@ bool ForEachResidual(const RelposeProblem& p, const std::vector<int>& I0, const 
       dE[j] = tx * ejx * R;
       dE[3 + j] = ejx * R;
     }
-    const double k = std::sqrt(sampson_weight * ps0 * ps1);
+    const double k = std::sqrt(sampson_weight * p.pixel_scale0 * p.pixel_scale1);
     const double if0 = 1.0 / f0, if1 = 1.0 / f1;
     for (int i : Is) {
       const Eigen::Vector3d y0(p.x0[i].x() * if0, p.x0[i].y() * if0, 1.0);
@@ -200,12 +202,12 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
   // Which parameters are free.
   bool free_param[kRelposeNumParams];
   for (int j = 0; j < 6; ++j) free_param[j] = true;
-  const bool depth = options.refine_depth && (!I0.empty() || !I1.empty());
+  const bool depth = options.refine_depth && options.reprojection_weight > 0.0 && (!I0.empty() || !I1.empty());
   free_param[kShift0] = depth && options.refine_shift && !I0.empty();
   free_param[kShift1] = depth && options.refine_shift && !I1.empty();
   free_param[kScale] = depth && !I1.empty();
-  free_param[kF0] = p.mode != CameraMode::kCalibrated;
-  free_param[kF1] = p.mode == CameraMode::kTwoFocal;
+  free_param[kF0] = options.refine_focal && p.mode != CameraMode::kCalibrated;
+  free_param[kF1] = options.refine_focal && p.mode == CameraMode::kTwoFocal;
   int num_free = 0;
   for (bool b : free_param) num_free += b;
   const int num_residuals = 2 * static_cast<int>(I0.size() + I1.size()) + static_cast<int>(Is.size());
@@ -213,8 +215,9 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
 
   auto cost_of = [&](const AffineDepthPose& m, double* cost) {
     double c = 0.0;
-    const bool ok = ForEachResidual<false>(p, I0, I1, Is, options.sampson_weight, m,
-                                           [&c](double r, const Row11d&) { c += r * r; });
+    const bool ok = ForEachResidual<false>(
+        p, I0, I1, Is, options.sampson_weight, m, [&c](double r, const Row11d&) { c += r * r; },
+        options.reprojection_weight);
     *cost = c;
     return ok && std::isfinite(c);
   };
@@ -236,7 +239,7 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
       }
       JtJ.selfadjointView<Eigen::Upper>().rankUpdate(rr.transpose());
       Jtr += rr.transpose() * r;
-    });
+    }, options.reprojection_weight);
     JtJ.triangularView<Eigen::Lower>() = JtJ.transpose();
     for (int j = 0; j < kRelposeNumParams; ++j) {
       if (!free_param[j]) {

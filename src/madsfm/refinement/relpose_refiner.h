@@ -15,6 +15,8 @@ namespace madsfm {
 struct RelposeRefinerOptions {
   int max_iterations = 10;
   double sampson_weight = 1.0;  // w_s, weight of the squared Sampson residuals
+  double reprojection_weight = 1.0;  // weight of the squared reprojection residuals (0: epipolar only)
+  bool refine_focal = true;     // false: focal lengths stay fixed (focal modes)
   bool refine_shift = true;     // false: shifts stay as they are (scale-only ablation)
   bool refine_depth = true;     // false: scale and shifts stay fixed (no depth data)
   double function_tolerance = 1e-10;  // stop when the relative cost decrease is below this

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
 
 // Outline of SolveRealPolynomialRoots:
 //  1. Exact zero roots are split off; leading coefficients that only add roots more than 2^50 times
@@ -38,6 +41,7 @@ constexpr double kNearMultipleRatio = 1e-8;
 // (cubic convergence) an error below kPredictedTol after the current one.
 constexpr double kStepTol = 1e-10;
 constexpr double kPredictedTol = 1e-17;
+constexpr int kMaxPolishIterations = 200;
 // Intervals narrower than this (relative) are not split further: their roots form a cluster that
 // double precision cannot separate.
 constexpr double kTinyWidth = 0x1p-42;
@@ -52,15 +56,31 @@ typedef double Vec4 __attribute__((vector_size(32)));
 
 #if defined(__FMA__)
 inline double MulAdd(double a, double b, double c) { return std::fma(a, b, c); }
-inline Vec4 MulAdd(Vec4 a, double b, Vec4 c) {
+inline Vec4 MulAdd(Vec4 a, Vec4 b, Vec4 c) {
   Vec4 r;
-  for (int l = 0; l < 4; ++l) r[l] = std::fma(a[l], b, c[l]);
+  for (int l = 0; l < 4; ++l) r[l] = std::fma(a[l], b[l], c[l]);
   return r;
 }
 #else
 inline double MulAdd(double a, double b, double c) { return a * b + c; }
-inline Vec4 MulAdd(Vec4 a, double b, Vec4 c) { return a * b + c; }
+inline Vec4 MulAdd(Vec4 a, Vec4 b, Vec4 c) { return a * b + c; }
 #endif
+inline Vec4 MulAdd(Vec4 a, double b, Vec4 c) { return MulAdd(a, Vec4{} + b, c); }
+
+// Lane masks (all bits set or clear) of comparisons between Vec4s.
+typedef long long Mask4 __attribute__((vector_size(32)));
+
+inline Vec4 Abs(Vec4 v) { return v < 0.0 ? -v : v; }
+
+inline Vec4 Sqrt(Vec4 v) {
+#if defined(__AVX__)
+  return _mm256_sqrt_pd(v);
+#else
+  Vec4 r;
+  for (int l = 0; l < 4; ++l) r[l] = std::sqrt(v[l]);
+  return r;
+#endif
+}
 
 // e with 2^e <= |v| < 2^(e + 1), for finite nonzero v.
 inline int Exponent(double v) {
@@ -268,54 +288,136 @@ int CountChanges(const int* s, int size) {
   return changes;
 }
 
-// The root of f (degree d >= 1) in (lo, hi), where f(lo) has sign slo != 0 and f(hi) the opposite
-// sign. Laguerre's method (cubic convergence; global when all roots are real), kept inside the
-// shrinking bracket by bisection (geometric bisection on wide one-signed intervals).
-double SolveBracketed(const double* f, int d, double lo, double hi, int slo) {
-  const double dm1 = d - 1;
-  double x = Split(lo, hi);
-  double last_step = 0.0;  // relative size of the previous Laguerre step; 0 after other steps
-  for (int it = 0; it < 200; ++it) {
-    double p = f[d], dp = 0.0, hp = 0.0;  // p, p' and p'' / 2
+// A root of f to polish: f(lo) has sign slo != 0, f(hi) the opposite sign; x ends up at the root.
+struct Bracket {
+  double lo, hi;
+  int slo;
+  double x;
+};
+
+// Polishes up to 4 * kVecs brackets of f (degree d >= 1) in lock step, each lane of a Vec4 holding
+// one root. Per iteration: Laguerre's method while far from the root (global convergence when all
+// roots are real), Halley's near it (both cubically convergent; Halley needs no square root), kept
+// inside the shrinking bracket by Newton or bisection steps (geometric bisection on wide one-signed
+// intervals). Written with selects, not branches, so that the lanes share the pipeline: the cost is
+// about that of the slowest root alone.
+template <int kVecs>
+void PolishLockStep(const double* f, int d, Bracket* brackets, int count) {
+  constexpr int kLanes = 4 * kVecs;
+  double init[5][kLanes];  // lo, hi, slo, x, done
+  for (int l = 0; l < kLanes; ++l) {
+    const bool used = l < count;
+    const Bracket& b = brackets[used ? l : 0];
+    init[0][l] = b.lo;
+    init[1][l] = b.hi;
+    init[2][l] = b.slo;
+    init[3][l] = Split(b.lo, b.hi);
+    init[4][l] = used ? 0.0 : 1.0;
+  }
+  Vec4 lo[kVecs], hi[kVecs], slo[kVecs], x[kVecs], last[kVecs];
+  Mask4 done[kVecs];
+  for (int j = 0; j < kVecs; ++j) {
+    std::memcpy(&lo[j], init[0] + 4 * j, sizeof(Vec4));
+    std::memcpy(&hi[j], init[1] + 4 * j, sizeof(Vec4));
+    std::memcpy(&slo[j], init[2] + 4 * j, sizeof(Vec4));
+    std::memcpy(&x[j], init[3] + 4 * j, sizeof(Vec4));
+    Vec4 done_value;
+    std::memcpy(&done_value, init[4] + 4 * j, sizeof(Vec4));
+    done[j] = done_value > 0.0;
+    last[j] = Vec4{};
+  }
+  const double dd = d, dm1 = d - 1;
+  for (int it = 0; it < kMaxPolishIterations; ++it) {
+    Mask4 all_done = done[0];
+    for (int j = 1; j < kVecs; ++j) all_done &= done[j];
+    if (all_done[0] && all_done[1] && all_done[2] && all_done[3]) break;
+    // f, f', f'' / 2 and sum_k |f_k| |x|^k (the scale of the rounding error of f) at all lanes.
+    Vec4 p[kVecs], dp[kVecs], hp[kVecs], size[kVecs], ax[kVecs];
+    for (int j = 0; j < kVecs; ++j) {
+      ax[j] = Abs(x[j]);
+      p[j] = Vec4{} + f[d];
+      size[j] = Vec4{} + std::abs(f[d]);
+      dp[j] = Vec4{};
+      hp[j] = Vec4{};
+    }
     for (int k = d - 1; k >= 0; --k) {
-      hp = MulAdd(hp, x, dp);
-      dp = MulAdd(dp, x, p);
-      p = MulAdd(p, x, f[k]);
-    }
-    if (p == 0.0) return x;
-    if (Sign(p) == slo) {
-      lo = x;
-    } else {
-      hi = x;
-    }
-    // Laguerre: d p / (p' +- sqrt((d - 1) ((d - 1) p'^2 - d p p''))); Newton if the root is complex.
-    const double disc = dm1 * (dm1 * dp * dp - 2.0 * d * p * hp);
-    double step;
-    bool laguerre = disc >= 0.0;
-    if (laguerre) {
-      const double root = std::sqrt(disc);
-      step = d * p / (dp >= 0.0 ? dp + root : dp - root);
-    } else {
-      step = p / dp;
-    }
-    const double xn = x - step;
-    const double rel = std::abs(step) / std::max(std::abs(x), 1e-300);
-    if (rel <= kStepTol) return xn;
-    if (xn > lo && xn < hi) {
-      // Cubic convergence: the error after this step is about rel^4 / last_step^3.
-      if (laguerre && last_step < 1e-2 && rel < last_step &&
-          rel * rel * rel * rel <= kPredictedTol * last_step * last_step * last_step) {
-        return xn;
+      const Vec4 c = Vec4{} + f[k], abs_c = Vec4{} + std::abs(f[k]);
+#pragma GCC unroll 4
+      for (int j = 0; j < kVecs; ++j) {
+        hp[j] = MulAdd(hp[j], x[j], dp[j]);
+        dp[j] = MulAdd(dp[j], x[j], p[j]);
+        p[j] = MulAdd(p[j], x[j], c);
+        size[j] = MulAdd(size[j], ax[j], abs_c);
       }
-      last_step = laguerre ? rel : 0.0;
-      x = xn;
-    } else {
-      x = Split(lo, hi);
-      last_step = 0.0;
-      if (hi - lo <= 4.0 * kEps * std::max(std::abs(lo), std::abs(hi))) return x;
+    }
+    for (int j = 0; j < kVecs; ++j) {
+      const Vec4 zero{};
+      const Mask4 same = (p[j] > 0.0) == (slo[j] > 0.0);
+      const Vec4 new_lo = same ? x[j] : lo[j];
+      const Vec4 new_hi = same ? hi[j] : x[j];
+      // Candidate steps.
+      const Vec4 disc = dm1 * (dm1 * dp[j] * dp[j] - 2.0 * dd * p[j] * hp[j]);
+      const Vec4 root = Sqrt(disc > zero ? disc : zero);
+      const Vec4 laguerre = dd * p[j] / (dp[j] + (dp[j] >= zero ? root : -root));
+      const Vec4 newton = p[j] / dp[j];
+      const Vec4 halley_den = dp[j] * dp[j] - p[j] * hp[j];
+      const Vec4 halley = p[j] * dp[j] / halley_den;  // 2 p p' / (2 p'^2 - p p'')
+      const Mask4 use_halley = (last[j] > zero) & (last[j] < 1e-2) & (dp[j] != zero) & (halley_den > 0.5 * dp[j] * dp[j]);
+      const Mask4 laguerre_real = disc >= zero;
+      const Mask4 cubic = use_halley | laguerre_real;
+      const Vec4 step = use_halley ? halley : (laguerre_real ? laguerre : newton);
+      const Vec4 xn = x[j] - step;
+      const Vec4 abs_x = Abs(x[j]);
+      const Vec4 rel = Abs(step) / (abs_x > 1e-300 ? abs_x : zero + 1e-300);
+      const Mask4 inside = (xn > new_lo) & (xn < new_hi);
+      // A step past a bracket end (towards a neighbouring root): Newton stays closer to x; failing
+      // that, bisect.
+      const Vec4 x_newton = x[j] - newton;
+      const Mask4 newton_inside = (x_newton > new_lo) & (x_newton < new_hi);
+      const Vec4 geometric = Sqrt(new_lo * new_hi);
+      const Vec4 x_bisect = (new_lo > zero) & (new_hi > 4.0 * new_lo)
+                                ? geometric
+                                : ((new_hi < zero) & (new_lo < 4.0 * new_hi) ? -geometric : 0.5 * (new_lo + new_hi));
+      // Done when the step is tiny, when |p| is at the level of its rounding error (a cluster: no
+      // better answer exists in double precision), when the last two steps predict (cubic
+      // convergence: error ~ rel^4 / last^3 after this step) an error below kPredictedTol, or when
+      // the bracket has collapsed.
+      const Mask4 converged = (rel <= kStepTol) | (Abs(p[j]) <= dd * kEps * size[j]);
+      const Mask4 predicted = inside & cubic & (last[j] < 1e-2) & (rel < last[j]) &
+                              (rel * rel * rel * rel <= kPredictedTol * last[j] * last[j] * last[j]);
+      const Vec4 width_limit = 4.0 * kEps * (Abs(new_lo) > Abs(new_hi) ? Abs(new_lo) : Abs(new_hi));
+      const Mask4 collapsed = (new_hi - new_lo <= width_limit) & ~inside & ~newton_inside;
+      const Vec4 new_x = inside ? xn : (converged ? x[j] : (newton_inside ? x_newton : x_bisect));
+      const Mask4 active = ~done[j];
+      lo[j] = active ? new_lo : lo[j];
+      hi[j] = active ? new_hi : hi[j];
+      x[j] = active ? new_x : x[j];
+      last[j] = active & inside & cubic ? rel : zero;
+      done[j] |= converged | predicted | collapsed;
     }
   }
-  return x;
+  double result[kLanes];
+  std::memcpy(result, x, sizeof(result));
+  for (int l = 0; l < count; ++l) brackets[l].x = result[l];
+}
+
+// Polishes all brackets; their roots end up in brackets[i].x.
+void Polish(const double* f, int d, Bracket* brackets, int count) {
+  for (int start = 0; start < count; start += 8) {
+    const int num = std::min(8, count - start);
+    if (num <= 4) {
+      PolishLockStep<1>(f, d, brackets + start, num);
+    } else {
+      PolishLockStep<2>(f, d, brackets + start, num);
+    }
+  }
+}
+
+// The root of f (degree d >= 1) in (lo, hi), f(lo) of sign slo != 0 and f(hi) of the opposite sign.
+double SolveBracketed(const double* f, int d, double lo, double hi, int slo) {
+  Bracket b{lo, hi, slo, 0.0};
+  PolishLockStep<1>(f, d, &b, 1);
+  return b.x;
 }
 
 int RealRoots(const double* coeffs, int degree, bool check_extrema, double* roots);
@@ -351,10 +453,13 @@ class RootFinder {
     // Negative roots first (on top of the stack), left halves before right halves: ascending order.
     Push({lower, upper, v_zero, v_pinf, s_zero, s_pinf});
     Push({-upper, -lower, v_minf, v_zero, s_minf, s_zero});
+    num_brackets_ = 0;
     while (top_ > 0) {
       const Interval iv = stack_[--top_];
       Process(iv);
     }
+    Polish(a_, n_, brackets_, num_brackets_);
+    for (int i = 0; i < num_brackets_; ++i) AddRoot(brackets_[i].x);
     if (check_extrema && chain_.min_ratio < kNearMultipleRatio) CheckExtrema();
     return num_roots_;
   }
@@ -378,8 +483,9 @@ class RootFinder {
     const double size = std::max(std::abs(iv.lo), std::abs(iv.hi));
     const bool tiny = width <= kTinyWidth * size || budget_ <= 0 || top_ + 2 > kStackSize;
     if (sign_change && (count <= 1 || tiny)) {
-      // A root of odd multiplicity (a count of 0 with a sign change means the chain is off).
-      AddRoot(SolveBracketed(a_, n_, iv.lo, iv.hi, iv.slo));
+      // A root of odd multiplicity (a count of 0 with a sign change means the chain is off); polished
+      // later, together with the others.
+      if (num_brackets_ < kMaxN) brackets_[num_brackets_++] = {iv.lo, iv.hi, iv.slo, 0.0};
       return;
     }
     if (!sign_change && (tiny || (count == 1 && width <= kTangentWidth * size))) {
@@ -470,6 +576,8 @@ class RootFinder {
   SturmChain chain_;
   Interval stack_[kStackSize];
   int top_ = 0;
+  Bracket brackets_[kMaxN];
+  int num_brackets_ = 0;
   int budget_ = 0;
   double* roots_ = nullptr;
   int num_roots_ = 0;
