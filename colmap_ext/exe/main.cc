@@ -8,7 +8,11 @@
 #include <vector>
 
 #include "colmap_ext/exe/pair_commands.h"
+#include "colmap_ext/exe/focal_estimator.h"
+#include "colmap_ext/exe/mapper_command.h"
+#include "colmap_ext/exe/seed_model.h"
 #include "colmap_ext/exe/synth_command.h"
+#include "colmap_ext/exe/two_view_estimator.h"
 
 namespace {
 
@@ -20,6 +24,12 @@ struct Command {
 
 const std::vector<Command>& Commands() {
   static const std::vector<Command> commands = {
+      {"mapper", madsfm::RunMapper, "The whole pipeline: two_view_estimator, focal_estimator, seed_model, colmap mapper"},
+      {"two_view_estimator", madsfm::RunTwoViewEstimator,
+       "Hybrid affine-depth estimation of every matched pair -> two-view geometries in the database"},
+      {"focal_estimator", madsfm::RunFocalEstimator, "Per-camera focal lengths from the pairwise estimates"},
+      {"seed_model", madsfm::RunSeedModel, "Initial pair -> two-image sparse model for colmap mapper --input_path"},
+      {"restore", madsfm::RunRestore, "Put COLMAP's original two-view geometries and cameras back"},
       {"pair", madsfm::RunPair, "Estimate one pair directory (relative pose, depth scale/shifts, focals) -> JSON"},
       {"bench", madsfm::RunBench, "Run methods over many pair directories -> accuracy/runtime tables, CSV"},
       {"synth", madsfm::RunSynth, "Write synthetic two-view pair directories with ground truth"},

@@ -229,18 +229,28 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
   double lambda = 1e-4;
   int it = 0;
   for (; it < options.max_iterations; ++it) {
+    // Normal equations, accumulated in blocks of rows (one matrix product per block, not per row).
     Matrix11d JtJ = Matrix11d::Zero();
     Vector11d Jtr = Vector11d::Zero();
+    constexpr int kBlock = 64;
+    Eigen::Matrix<double, kBlock, kRelposeNumParams> Jb;
+    Eigen::Matrix<double, kBlock, 1> rb;
+    int filled = 0;
+    auto flush = [&]() {
+      JtJ.noalias() += Jb.topRows(filled).transpose() * Jb.topRows(filled);
+      Jtr.noalias() += Jb.topRows(filled).transpose() * rb.head(filled);
+      filled = 0;
+    };
     ForEachResidual<true>(p, I0, I1, Is, options.sampson_weight, current, [&](double r, const Row11d& row) {
-      Row11d rr = row;
+      Jb.row(filled) = row;
       if (shared) {
-        rr(kF0) += rr(kF1);
-        rr(kF1) = 0.0;
+        Jb(filled, kF0) += Jb(filled, kF1);
+        Jb(filled, kF1) = 0.0;
       }
-      JtJ.selfadjointView<Eigen::Upper>().rankUpdate(rr.transpose());
-      Jtr += rr.transpose() * r;
+      rb(filled) = r;
+      if (++filled == kBlock) flush();
     }, options.reprojection_weight);
-    JtJ.triangularView<Eigen::Lower>() = JtJ.transpose();
+    if (filled > 0) flush();
     for (int j = 0; j < kRelposeNumParams; ++j) {
       if (!free_param[j]) {
         JtJ.row(j).setZero();

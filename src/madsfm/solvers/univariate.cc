@@ -134,15 +134,16 @@ struct SturmChain {
   // Smallest ratio between a remainder and the terms it was computed from (1 if none): tiny values
   // mean p and p' nearly share a root.
   double min_ratio = 1.0;
+  // Beyond this |x| the members are evaluated in 1 / x (x^n could overflow).
+  double forward_limit = 1.0;
   alignas(32) double t[(kMaxN + 1) * kStride];
 };
 
-// Appends sign * c (degree `degree`) to the chain.
+// Appends sign * c (degree `degree`, zero-padded to ch->degree) to the chain.
 void StoreMember(const double* c, int degree, double sign, SturmChain* ch) {
   const int i = ch->size++;
   ch->member_degree[i] = degree;
-  for (int k = 0; k <= degree; ++k) ch->t[k * kStride + i] = sign * c[k];
-  for (int k = degree + 1; k <= ch->degree; ++k) ch->t[k * kStride + i] = 0.0;
+  for (int k = 0; k <= ch->degree; ++k) ch->t[k * kStride + i] = sign * c[k];
 }
 
 // Builds the Sturm chain of a (degree n >= 1, a[n] != 0, max |a_k| = O(1)).
@@ -151,37 +152,49 @@ void BuildSturmChain(const double* a, int n, SturmChain* ch) {
   ch->size = 0;
   ch->min_ratio = 1.0;
   // The working polynomials are b_i = sign_i s_i: b_{i+1} = b_{i-1} mod b_i (no negation and no
-  // rescaling on the critical path), so sign_{i+1} = -sign_{i-1}.
-  double buffers[2][kMaxN + 1];
+  // rescaling on the critical path), so sign_{i+1} = -sign_{i-1}. Zero-padded to degree n.
+  double buffers[2][kMaxN + 2];
   double* prev = buffers[0];
   double* cur = buffers[1];
-  double prev_sign = 1.0, cur_sign = 1.0;
-  int dprev = n, dcur = n - 1;
   double prev_max = 0.0, cur_max = 0.0;
-  for (int k = 0; k <= n; ++k) {
-    prev[k] = a[k];
-    prev_max = std::max(prev_max, std::abs(a[k]));
-  }
   for (int k = 0; k < n; ++k) {
+    prev[k] = a[k];
     cur[k] = (k + 1) * a[k + 1];
+    prev_max = std::max(prev_max, std::abs(prev[k]));
     cur_max = std::max(cur_max, std::abs(cur[k]));
   }
+  prev[n] = a[n];
+  cur[n] = 0.0;
+  cur[n + 1] = prev[n + 1] = 0.0;
+  prev_max = std::max(prev_max, std::abs(a[n]));
+  double prev_sign = 1.0, cur_sign = 1.0;
+  int dprev = n, dcur = n - 1;
   StoreMember(prev, dprev, 1.0, ch);
   StoreMember(cur, dcur, 1.0, ch);
   while (dcur > 0) {
     // prev <- prev mod cur, in place.
     const double inv_lead = 1.0 / cur[dcur];
     double qsum = 0.0;
-    for (int k = dprev; k >= dcur; --k) {
-      const double q = -prev[k] * inv_lead;
-      qsum += std::abs(q);
-      double* pk = prev + (k - dcur);
-      for (int j = 0; j < dcur; ++j) pk[j] = MulAdd(q, cur[j], pk[j]);
+    if (dprev == dcur + 1) {
+      // The usual case, a linear quotient q1 x + q0: r_j = prev_j - q1 cur_{j-1} - q0 cur_j.
+      const double q1 = -prev[dprev] * inv_lead;
+      const double q0 = -MulAdd(q1, cur[dcur - 1], prev[dcur]) * inv_lead;
+      qsum = std::abs(q1) + std::abs(q0);
+      prev[0] = MulAdd(q0, cur[0], prev[0]);
+      for (int j = 1; j < dcur; ++j) prev[j] = MulAdd(q0, cur[j], MulAdd(q1, cur[j - 1], prev[j]));
+    } else {
+      for (int k = dprev; k >= dcur; --k) {
+        const double q = -prev[k] * inv_lead;
+        qsum += std::abs(q);
+        double* pk = prev + (k - dcur);
+        for (int j = 0; j < dcur; ++j) pk[j] = MulAdd(q, cur[j], pk[j]);
+      }
     }
+    for (int j = dcur; j <= dprev; ++j) prev[j] = 0.0;  // eliminated (zero up to rounding)
     const double size = prev_max + qsum * cur_max;
     const double threshold = kChainTol * size;
     int dr = dcur - 1;
-    while (dr >= 0 && std::abs(prev[dr]) <= threshold) --dr;
+    while (dr >= 0 && std::abs(prev[dr]) <= threshold) prev[dr--] = 0.0;
     if (dr < 0) {
       ch->min_ratio = 0.0;
       break;  // cur divides prev numerically: cur is the gcd (multiple roots)
@@ -204,6 +217,7 @@ void BuildSturmChain(const double* a, int n, SturmChain* ch) {
     dcur = dr;
     StoreMember(cur, dcur, cur_sign, ch);
   }
+  ch->forward_limit = Pow2(500 / n);
   // Zero the padding lanes read by the vectorised evaluation.
   const int lanes = (ch->size + 3) & ~3;
   for (int k = 0; k <= n; ++k) {
@@ -219,7 +233,7 @@ int SignChangesImpl(const SturmChain& ch, double x, int* sign_p) {
   const double* t = ch.t;
   Vec4 v[kVecs];
   bool flip = false;
-  if (std::abs(x) <= 1.0) {
+  if (std::abs(x) <= ch.forward_limit) {
     const double* row = t + n * kStride;
     for (int j = 0; j < kVecs; ++j) std::memcpy(&v[j], row + 4 * j, sizeof(Vec4));
     for (int k = n - 1; k >= 0; --k) {
@@ -232,8 +246,8 @@ int SignChangesImpl(const SturmChain& ch, double x, int* sign_p) {
       }
     }
   } else {
-    // x^-n s_i(x) by Horner in 1/x, free of overflow. The common factor x^-n leaves the sign changes
-    // alone; it flips every sign when x < 0 and n is odd.
+    // Huge |x|: x^-n s_i(x) by Horner in 1/x, free of overflow. The common factor x^-n leaves the
+    // sign changes alone; it flips every sign when x < 0 and n is odd.
     const double r = 1.0 / x;
     for (int j = 0; j < kVecs; ++j) std::memcpy(&v[j], t + 4 * j, sizeof(Vec4));
     for (int k = 1; k <= n; ++k) {
@@ -277,13 +291,12 @@ int SignChanges(const SturmChain& ch, double x, int* sign_p) {
   return SignChangesImpl<kStride / 4>(ch, x, sign_p);
 }
 
-// Sign changes of a sequence of signs (zeros skipped).
+// Sign changes of a sequence of signs (zeros skipped); branch-free.
 int CountChanges(const int* s, int size) {
   int changes = 0, prev = 0;
   for (int i = 0; i < size; ++i) {
-    if (s[i] == 0) continue;
-    if (prev != 0 && s[i] != prev) ++changes;
-    prev = s[i];
+    changes += static_cast<int>(s[i] * prev < 0);
+    prev = s[i] != 0 ? s[i] : prev;
   }
   return changes;
 }
@@ -295,12 +308,25 @@ struct Bracket {
   double x;
 };
 
+// Geometric mean of 0 < a < b, approximately (averaged bit patterns, within 6%), strictly between.
+inline Vec4 GeometricMean(Vec4 a, Vec4 b) {
+  Mask4 ia, ib;
+  std::memcpy(&ia, &a, sizeof(ia));
+  std::memcpy(&ib, &b, sizeof(ib));
+  const Mask4 im = (ia >> 1) + (ib >> 1);  // no overflow: the bit patterns are below 2^63
+  Vec4 m;
+  std::memcpy(&m, &im, sizeof(m));
+  return m;
+}
+
 // Polishes up to 4 * kVecs brackets of f (degree d >= 1) in lock step, each lane of a Vec4 holding
-// one root. Per iteration: Laguerre's method while far from the root (global convergence when all
-// roots are real), Halley's near it (both cubically convergent; Halley needs no square root), kept
-// inside the shrinking bracket by Newton or bisection steps (geometric bisection on wide one-signed
-// intervals). Written with selects, not branches, so that the lanes share the pipeline: the cost is
-// about that of the slowest root alone.
+// one root; the cost is about that of the slowest root alone. The first kLaguerreIterations
+// iterations take Laguerre steps (global convergence when all roots are real), the later ones
+// Halley steps (cubic convergence like Laguerre, without the square root); Newton or bisection
+// (geometric on wide one-signed intervals) steps keep each lane inside its shrinking bracket. All
+// per-lane decisions are selects, not branches.
+constexpr int kLaguerreIterations = 2;
+
 template <int kVecs>
 void PolishLockStep(const double* f, int d, Bracket* brackets, int count) {
   constexpr int kLanes = 4 * kVecs;
@@ -327,6 +353,7 @@ void PolishLockStep(const double* f, int d, Bracket* brackets, int count) {
     last[j] = Vec4{};
   }
   const double dd = d, dm1 = d - 1;
+  const Vec4 zero{};
   for (int it = 0; it < kMaxPolishIterations; ++it) {
     Mask4 all_done = done[0];
     for (int j = 1; j < kVecs; ++j) all_done &= done[j];
@@ -335,13 +362,13 @@ void PolishLockStep(const double* f, int d, Bracket* brackets, int count) {
     Vec4 p[kVecs], dp[kVecs], hp[kVecs], size[kVecs], ax[kVecs];
     for (int j = 0; j < kVecs; ++j) {
       ax[j] = Abs(x[j]);
-      p[j] = Vec4{} + f[d];
-      size[j] = Vec4{} + std::abs(f[d]);
-      dp[j] = Vec4{};
-      hp[j] = Vec4{};
+      p[j] = zero + f[d];
+      size[j] = zero + std::abs(f[d]);
+      dp[j] = zero;
+      hp[j] = zero;
     }
     for (int k = d - 1; k >= 0; --k) {
-      const Vec4 c = Vec4{} + f[k], abs_c = Vec4{} + std::abs(f[k]);
+      const Vec4 c = zero + f[k], abs_c = zero + std::abs(f[k]);
 #pragma GCC unroll 4
       for (int j = 0; j < kVecs; ++j) {
         hp[j] = MulAdd(hp[j], x[j], dp[j]);
@@ -350,41 +377,47 @@ void PolishLockStep(const double* f, int d, Bracket* brackets, int count) {
         size[j] = MulAdd(size[j], ax[j], abs_c);
       }
     }
+    const bool laguerre_iteration = it < kLaguerreIterations;
     for (int j = 0; j < kVecs; ++j) {
-      const Vec4 zero{};
-      const Mask4 same = (p[j] > 0.0) == (slo[j] > 0.0);
+      const Mask4 same = (p[j] > zero) == (slo[j] > zero);
       const Vec4 new_lo = same ? x[j] : lo[j];
       const Vec4 new_hi = same ? hi[j] : x[j];
-      // Candidate steps.
-      const Vec4 disc = dm1 * (dm1 * dp[j] * dp[j] - 2.0 * dd * p[j] * hp[j]);
-      const Vec4 root = Sqrt(disc > zero ? disc : zero);
-      const Vec4 laguerre = dd * p[j] / (dp[j] + (dp[j] >= zero ? root : -root));
-      const Vec4 newton = p[j] / dp[j];
-      const Vec4 halley_den = dp[j] * dp[j] - p[j] * hp[j];
-      const Vec4 halley = p[j] * dp[j] / halley_den;  // 2 p p' / (2 p'^2 - p p'')
-      const Mask4 use_halley = (last[j] > zero) & (last[j] < 1e-2) & (dp[j] != zero) & (halley_den > 0.5 * dp[j] * dp[j]);
-      const Mask4 laguerre_real = disc >= zero;
-      const Mask4 cubic = use_halley | laguerre_real;
-      const Vec4 step = use_halley ? halley : (laguerre_real ? laguerre : newton);
+      const Vec4 dp2 = dp[j] * dp[j];
+      Vec4 step;
+      Mask4 cubic;
+      if (laguerre_iteration) {
+        // Laguerre: d p / (p' +- sqrt((d - 1) ((d - 1) p'^2 - d p p''))); Newton if that is complex.
+        const Vec4 disc = dm1 * (dm1 * dp2 - 2.0 * dd * p[j] * hp[j]);
+        const Vec4 root = Sqrt(disc > zero ? disc : zero);
+        cubic = disc >= zero;
+        step = (cubic ? dd * p[j] : p[j]) / (cubic ? dp[j] + (dp[j] >= zero ? root : -root) : dp[j]);
+      } else {
+        // Halley: 2 p p' / (2 p'^2 - p p''); Newton where p p'' is too large for it.
+        const Vec4 halley_den = dp2 - p[j] * hp[j];
+        cubic = halley_den > 0.5 * dp2;
+        step = (cubic ? p[j] * dp[j] : p[j]) / (cubic ? halley_den : dp[j]);
+      }
+      const Vec4 abs_x = Abs(x[j]), abs_step = Abs(step);
       const Vec4 xn = x[j] - step;
-      const Vec4 abs_x = Abs(x[j]);
-      const Vec4 rel = Abs(step) / (abs_x > 1e-300 ? abs_x : zero + 1e-300);
       const Mask4 inside = (xn > new_lo) & (xn < new_hi);
       // A step past a bracket end (towards a neighbouring root): Newton stays closer to x; failing
       // that, bisect.
-      const Vec4 x_newton = x[j] - newton;
+      const Vec4 x_newton = x[j] - p[j] / dp[j];
       const Mask4 newton_inside = (x_newton > new_lo) & (x_newton < new_hi);
-      const Vec4 geometric = Sqrt(new_lo * new_hi);
-      const Vec4 x_bisect = (new_lo > zero) & (new_hi > 4.0 * new_lo)
+      const Mask4 positive = new_lo > zero, negative = new_hi < zero;
+      const Vec4 geometric = GeometricMean(Abs(new_lo) < Abs(new_hi) ? Abs(new_lo) : Abs(new_hi),
+                                           Abs(new_lo) < Abs(new_hi) ? Abs(new_hi) : Abs(new_lo));
+      const Vec4 x_bisect = positive & (new_hi > 4.0 * new_lo)
                                 ? geometric
-                                : ((new_hi < zero) & (new_lo < 4.0 * new_hi) ? -geometric : 0.5 * (new_lo + new_hi));
+                                : (negative & (new_lo < 4.0 * new_hi) ? -geometric : 0.5 * (new_lo + new_hi));
       // Done when the step is tiny, when |p| is at the level of its rounding error (a cluster: no
       // better answer exists in double precision), when the last two steps predict (cubic
-      // convergence: error ~ rel^4 / last^3 after this step) an error below kPredictedTol, or when
+      // convergence: error ~ step^4 / last^3 after this step) an error below kPredictedTol, or when
       // the bracket has collapsed.
-      const Mask4 converged = (rel <= kStepTol) | (Abs(p[j]) <= dd * kEps * size[j]);
-      const Mask4 predicted = inside & cubic & (last[j] < 1e-2) & (rel < last[j]) &
-                              (rel * rel * rel * rel <= kPredictedTol * last[j] * last[j] * last[j]);
+      const Mask4 converged = (abs_step <= kStepTol * abs_x) | (Abs(p[j]) <= dd * kEps * size[j]);
+      const Vec4 step2 = abs_step * abs_step, last3 = last[j] * last[j] * last[j];
+      const Mask4 predicted = inside & cubic & (last[j] < 1e-2 * abs_x) & (abs_step < last[j]) &
+                              (step2 * step2 <= kPredictedTol * last3 * abs_x);
       const Vec4 width_limit = 4.0 * kEps * (Abs(new_lo) > Abs(new_hi) ? Abs(new_lo) : Abs(new_hi));
       const Mask4 collapsed = (new_hi - new_lo <= width_limit) & ~inside & ~newton_inside;
       const Vec4 new_x = inside ? xn : (converged ? x[j] : (newton_inside ? x_newton : x_bisect));
@@ -392,7 +425,7 @@ void PolishLockStep(const double* f, int d, Bracket* brackets, int count) {
       lo[j] = active ? new_lo : lo[j];
       hi[j] = active ? new_hi : hi[j];
       x[j] = active ? new_x : x[j];
-      last[j] = active & inside & cubic ? rel : zero;
+      last[j] = active & inside & cubic ? abs_step : zero;
       done[j] |= converged | predicted | collapsed;
     }
   }
@@ -424,6 +457,10 @@ int RealRoots(const double* coeffs, int degree, bool check_extrema, double* root
 
 // Real-root search for a polynomial a (degree n >= 3, a[0] != 0, a[n] != 0) whose real roots y
 // satisfy lower < |y| < upper. Writes at most n roots, not sorted, and returns their number.
+//
+// Isolation is breadth first: each round splits every interval that still holds several roots, and
+// the Sturm counts at all the new points are computed back to back, so that their latencies
+// overlap. The isolated roots are then polished together (PolishLockStep).
 class RootFinder {
  public:
   RootFinder(const double* a, int n) : a_(a), n_(n) {
@@ -433,6 +470,7 @@ class RootFinder {
   int Solve(double lower, double upper, bool check_extrema, double* roots) {
     roots_ = roots;
     num_roots_ = 0;
+    num_brackets_ = 0;
     BuildSturmChain(a_, n_, &chain_);
     // Sign changes at 0 and +-infinity from the constant and leading coefficients; no root lies in
     // [0, lower] or beyond upper, so these are the counts at +-lower and +-upper.
@@ -448,18 +486,66 @@ class RootFinder {
     const int v_pinf = CountChanges(sign_pinf, chain_.size);
     const int v_minf = CountChanges(sign_minf, chain_.size);
     const int s_zero = Sign(a_[0]), s_pinf = Sign(a_[n_]), s_minf = (n_ & 1) ? -s_pinf : s_pinf;
-    budget_ = 60 * n_ + 100;
-    top_ = 0;
-    // Negative roots first (on top of the stack), left halves before right halves: ascending order.
-    Push({lower, upper, v_zero, v_pinf, s_zero, s_pinf});
-    Push({-upper, -lower, v_minf, v_zero, s_minf, s_zero});
-    num_brackets_ = 0;
-    while (top_ > 0) {
-      const Interval iv = stack_[--top_];
-      Process(iv);
+    int budget = 60 * n_ + 100;  // Sturm evaluations
+    Interval work[2][kMaxWork];
+    int num_work = 0;
+    work[0][num_work++] = {-upper, -lower, v_minf, v_zero, s_minf, s_zero};
+    work[0][num_work++] = {lower, upper, v_zero, v_pinf, s_zero, s_pinf};
+    for (int round = 0; num_work > 0; ++round) {
+      const Interval* current = work[round & 1];
+      Interval* next = work[(round + 1) & 1];
+      // Classify; the intervals to split get their split point.
+      Interval split[kMaxWork];
+      double points[kMaxWork];
+      int num_split = 0;
+      for (int w = 0; w < num_work; ++w) {
+        const Interval& iv = current[w];
+        const int count = iv.vlo - iv.vhi;
+        const bool sign_change = iv.slo * iv.shi < 0;
+        if (!sign_change && count <= 0) continue;
+        const double width = iv.hi - iv.lo;
+        const double size = std::max(std::abs(iv.lo), std::abs(iv.hi));
+        const bool tiny = width <= kTinyWidth * size || budget <= 0 || num_split >= kMaxWork / 2;
+        if (sign_change && (count <= 1 || tiny)) {
+          // A root of odd multiplicity (a count of 0 with a sign change means the chain is off).
+          if (num_brackets_ < kMaxN) brackets_[num_brackets_++] = {iv.lo, iv.hi, iv.slo, 0.0};
+        } else if (!sign_change && (tiny || (count == 1 && width <= kTangentWidth * size))) {
+          NoSignChange(iv.lo, iv.hi, iv.slo);
+        } else {
+          split[num_split] = iv;
+          points[num_split++] = Split(iv.lo, iv.hi);
+        }
+      }
+      // Sturm counts at all split points (independent evaluations, overlapping in the pipeline).
+      int counts[kMaxWork], signs[kMaxWork];
+      for (int i = 0; i < num_split; ++i) counts[i] = SignChanges(chain_, points[i], &signs[i]);
+      budget -= num_split;
+      num_work = 0;
+      for (int i = 0; i < num_split; ++i) {
+        const Interval& iv = split[i];
+        const double m = points[i];
+        if (signs[i] != 0) {
+          next[num_work++] = {iv.lo, m, iv.vlo, counts[i], iv.slo, signs[i]};
+          next[num_work++] = {m, iv.hi, counts[i], iv.vhi, signs[i], iv.shi};
+          continue;
+        }
+        // m is an exact root: step off it on both sides.
+        AddRoot(m);
+        const double h = (iv.hi - iv.lo) * 0x1p-12;
+        int sl, sr;
+        const int vl = SignChanges(chain_, m - h, &sl), vr = SignChanges(chain_, m + h, &sr);
+        budget -= 2;
+        next[num_work++] = {iv.lo, m - h, iv.vlo, vl, iv.slo, sl};
+        next[num_work++] = {m + h, iv.hi, vr, iv.vhi, sr, iv.shi};
+      }
     }
     Polish(a_, n_, brackets_, num_brackets_);
-    for (int i = 0; i < num_brackets_; ++i) AddRoot(brackets_[i].x);
+    // Residual check of the polished roots (independent evaluations again).
+    double values[kMaxN], scales[kMaxN];
+    for (int i = 0; i < num_brackets_; ++i) Residual(a_, n_, brackets_[i].x, &values[i], &scales[i]);
+    for (int i = 0; i < num_brackets_; ++i) {
+      if (std::abs(values[i]) <= kResidualTol * scales[i] && num_roots_ < n_) roots_[num_roots_++] = brackets_[i].x;
+    }
     if (check_extrema && chain_.min_ratio < kNearMultipleRatio) CheckExtrema();
     return num_roots_;
   }
@@ -470,49 +556,6 @@ class RootFinder {
     int vlo, vhi;  // Sturm sign changes at lo, hi
     int slo, shi;  // signs of p at lo, hi
   };
-
-  void Push(const Interval& iv) {
-    if (top_ < kStackSize) stack_[top_++] = iv;
-  }
-
-  void Process(const Interval& iv) {
-    const int count = iv.vlo - iv.vhi;
-    const bool sign_change = iv.slo * iv.shi < 0;
-    if (!sign_change && count <= 0) return;
-    const double width = iv.hi - iv.lo;
-    const double size = std::max(std::abs(iv.lo), std::abs(iv.hi));
-    const bool tiny = width <= kTinyWidth * size || budget_ <= 0 || top_ + 2 > kStackSize;
-    if (sign_change && (count <= 1 || tiny)) {
-      // A root of odd multiplicity (a count of 0 with a sign change means the chain is off); polished
-      // later, together with the others.
-      if (num_brackets_ < kMaxN) brackets_[num_brackets_++] = {iv.lo, iv.hi, iv.slo, 0.0};
-      return;
-    }
-    if (!sign_change && (tiny || (count == 1 && width <= kTangentWidth * size))) {
-      NoSignChange(iv.lo, iv.hi, iv.slo);
-      return;
-    }
-    const double m = Split(iv.lo, iv.hi);
-    int sm;
-    const int vm = Evaluate(m, &sm);
-    if (sm == 0) {
-      // m is an exact root: step off it on both sides.
-      AddRoot(m);
-      const double h = width * 0x1p-12;
-      int sl, sr;
-      const int vl = Evaluate(m - h, &sl), vr = Evaluate(m + h, &sr);
-      Push({m + h, iv.hi, vr, iv.vhi, sr, iv.shi});
-      Push({iv.lo, m - h, iv.vlo, vl, iv.slo, sl});
-      return;
-    }
-    Push({m, iv.hi, vm, iv.vhi, sm, iv.shi});
-    Push({iv.lo, m, iv.vlo, vm, iv.slo, sm});
-  }
-
-  int Evaluate(double x, int* sign_p) {
-    --budget_;
-    return SignChanges(chain_, x, sign_p);
-  }
 
   // (lo, hi) should hold roots, but p has the same sign slo at both ends: a root of even
   // multiplicity, or two roots too close for the Sturm chain. Looks at the extremum of p in between.
@@ -569,16 +612,14 @@ class RootFinder {
     roots_[num_roots_++] = x;
   }
 
-  static constexpr int kStackSize = 128;
+  // Each round at most doubles the number of intervals holding roots; there are at most n of those.
+  static constexpr int kMaxWork = 4 * kMaxN;
   const double* a_;
   int n_;
   double da_[kMaxN];
   SturmChain chain_;
-  Interval stack_[kStackSize];
-  int top_ = 0;
   Bracket brackets_[kMaxN];
   int num_brackets_ = 0;
-  int budget_ = 0;
   double* roots_ = nullptr;
   int num_roots_ = 0;
 };

@@ -1,0 +1,128 @@
+#include "colmap_ext/exe/focal_estimator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <stdexcept>
+
+#include "colmap_ext/database/database.h"
+#include "colmap_ext/exe/option_parser.h"
+#include "madsfm/estimators/relpose_problem.h"
+
+namespace madsfm {
+namespace {
+
+double WeightedMedian(std::vector<std::pair<double, double>> v) {  // (value, weight)
+  std::sort(v.begin(), v.end());
+  double total = 0.0;
+  for (const auto& e : v) total += e.second;
+  double acc = 0.0;
+  for (const auto& e : v) {
+    acc += e.second;
+    if (acc >= 0.5 * total) return e.first;
+  }
+  return v.back().first;
+}
+
+}  // namespace
+
+FocalAggregate AggregateFocal(const std::vector<FocalSample>& samples) {
+  FocalAggregate a;
+  a.num_total = static_cast<int>(samples.size());
+  std::vector<std::pair<double, double>> logs;
+  for (const FocalSample& s : samples) {
+    if (s.focal > 0.0 && std::isfinite(s.focal) && s.weight > 0.0) logs.push_back({std::log(s.focal), s.weight});
+  }
+  if (logs.empty()) return a;
+  const double med = WeightedMedian(logs);
+  std::vector<std::pair<double, double>> dev;
+  for (const auto& e : logs) dev.push_back({std::abs(e.first - med), e.second});
+  const double mad = WeightedMedian(dev);
+  const double limit = std::max(3.0 * 1.4826 * mad, std::log(1.05));
+  double sum = 0.0, wsum = 0.0;
+  std::vector<std::pair<double, double>> kept;
+  for (const auto& e : logs) {
+    if (std::abs(e.first - med) <= limit) {
+      sum += e.first * e.second;
+      wsum += e.second;
+      kept.push_back(e);
+    }
+  }
+  const double mean = sum / wsum;
+  std::vector<std::pair<double, double>> kdev;
+  for (const auto& e : kept) kdev.push_back({std::abs(e.first - mean), e.second});
+  a.focal = std::exp(mean);
+  a.spread = 1.4826 * WeightedMedian(kdev);
+  a.num_used = static_cast<int>(kept.size());
+  return a;
+}
+
+std::vector<FocalChange> RunFocalEstimatorImpl(const FocalEstimatorOptions& options) {
+  auto db = colmap::Database::Open(options.database_path);
+  const auto cameras = db->ReadCameras();
+  std::map<colmap::image_t, colmap::camera_t> camera_of;
+  for (const auto& im : db->ReadImages()) camera_of[im.image_id] = im.camera_id;
+  std::map<colmap::camera_t, std::vector<FocalSample>> samples;
+  for (const colmap::MadsfmPairRow& row : db->ReadMadsfmPairs()) {
+    if (row.status != 0 || row.camera_mode == static_cast<int>(CameraMode::kCalibrated)) continue;
+    colmap::image_t i1, i2;
+    colmap::PairIdToImagePair(row.pair_id, &i1, &i2);
+    const double w = row.num_inliers;
+    if (row.camera_mode == static_cast<int>(CameraMode::kSharedFocal) && camera_of[i1] == camera_of[i2]) {
+      samples[camera_of[i1]].push_back({row.focal1, w});
+    } else {
+      samples[camera_of[i1]].push_back({row.focal1, w});
+      samples[camera_of[i2]].push_back({row.focal2, w});
+    }
+  }
+  std::vector<FocalChange> changes;
+  colmap::Database::Transaction txn(db.get());
+  for (const colmap::Camera& cam : cameras) {
+    FocalChange c;
+    c.camera_id = cam.camera_id;
+    c.old_focal = c.new_focal = cam.intrinsics.FocalX();
+    c.had_prior = cam.prior_focal_length;
+    const FocalAggregate a = AggregateFocal(samples[cam.camera_id]);
+    c.num_pairs = a.num_used;
+    c.spread = a.spread;
+    if (a.num_used >= options.min_num_pairs && a.num_used > 0 && (!cam.prior_focal_length || options.overwrite)) {
+      colmap::Camera updated = cam;
+      updated.intrinsics.SetFocal(a.focal);
+      updated.prior_focal_length = true;
+      db->UpdateCamera(updated);
+      c.new_focal = a.focal;
+      c.updated = true;
+    }
+    changes.push_back(c);
+  }
+  txn.Commit();
+  return changes;
+}
+
+int RunFocalEstimator(int argc, char** argv) {
+  FocalEstimatorOptions o;
+  OptionParser parser("focal_estimator",
+                      "Aggregates the pairwise focal estimates of two_view_estimator into one focal length per camera\n"
+                      "(weighted by inliers, outlier-rejecting) and writes it into the cameras table with\n"
+                      "prior_focal_length = 1, for cameras without a prior (all with --overwrite 1).");
+  parser.AddRequired("database_path", &o.database_path, "COLMAP database processed by two_view_estimator.");
+  parser.AddDefault("overwrite", &o.overwrite, "Also replace focal lengths that came with a prior.");
+  parser.AddDefault("min_num_pairs", &o.min_num_pairs, "Cameras with fewer usable pair estimates are left as they are.");
+  if (!parser.Parse(argc, argv, 2)) return EXIT_FAILURE;
+  if (parser.help_requested()) return EXIT_SUCCESS;
+  try {
+    const auto changes = RunFocalEstimatorImpl(o);
+    std::printf("| camera | old f | new f | pairs used | spread | updated |\n|---|---|---|---|---|---|\n");
+    for (const FocalChange& c : changes) {
+      std::printf("| %u | %.2f | %.2f | %d | %.2f%% | %s |\n", c.camera_id, c.old_focal, c.new_focal, c.num_pairs,
+                  100.0 * c.spread, c.updated ? "yes" : (c.had_prior && !o.overwrite ? "no (has prior)" : "no"));
+    }
+    return EXIT_SUCCESS;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "madsfm focal_estimator: error: %s\n", e.what());
+    return EXIT_FAILURE;
+  }
+}
+
+}  // namespace madsfm

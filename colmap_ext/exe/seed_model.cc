@@ -1,0 +1,186 @@
+#include "colmap_ext/exe/seed_model.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <stdexcept>
+
+#include "colmap_ext/exe/option_parser.h"
+#include "colmap_ext/model/reconstruction.h"
+#include "madsfm/geometry/triangulation.h"
+
+namespace madsfm {
+namespace {
+
+struct Candidate {
+  colmap::MadsfmPairRow row;
+  double tri_angle_deg = 0.0;
+  double score = -1.0;
+};
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+SeedModelSummary RunSeedModelImpl(const SeedModelOptions& options) {
+  auto db = colmap::Database::Open(options.database_path, /*read_only=*/true);
+  std::map<colmap::camera_t, colmap::Camera> cameras;
+  for (const auto& c : db->ReadCameras()) cameras[c.camera_id] = c;
+  std::map<colmap::image_t, colmap::Image> images;
+  for (const auto& im : db->ReadImages()) images[im.image_id] = im;
+
+  std::vector<Candidate> candidates;
+  for (const auto& row : db->ReadMadsfmPairs()) {
+    if (row.status == 0 && row.num_inliers >= options.min_num_inliers) candidates.push_back({row});
+  }
+  if (candidates.empty()) {
+    throw std::runtime_error("database '" + options.database_path + "': no pair estimated by two_view_estimator has " +
+                             std::to_string(options.min_num_inliers) + " inliers; run two_view_estimator first");
+  }
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.row.num_inliers > b.row.num_inliers; });
+  if (static_cast<int>(candidates.size()) > options.num_candidates) candidates.resize(options.num_candidates);
+
+  // Normalised, undistorted keypoints with the database's current intrinsics (after focal_estimator).
+  std::map<colmap::image_t, std::vector<Eigen::Vector2d>> keypoints, normalized;
+  auto load = [&](colmap::image_t id) {
+    if (keypoints.count(id)) return;
+    keypoints[id] = db->ReadKeypoints(id);
+    const auto& cam = cameras.at(images.at(id).camera_id).intrinsics;
+    auto& n = normalized[id];
+    for (const auto& kp : keypoints[id]) n.push_back(colmap::ImageToCamera(cam, kp));
+  };
+
+  Candidate* best = nullptr;
+  std::vector<std::array<uint32_t, 2>> best_inliers;
+  for (Candidate& c : candidates) {
+    colmap::image_t i1, i2;
+    colmap::PairIdToImagePair(c.row.pair_id, &i1, &i2);
+    load(i1);
+    load(i2);
+    const auto geometry = db->ReadTwoViewGeometry(c.row.pair_id);
+    if (!geometry) continue;
+    std::vector<double> angles;
+    for (const auto& m : geometry->inlier_matches) {
+      const Eigen::Vector3d r1 = normalized[i1][m[0]].homogeneous().normalized();
+      const Eigen::Vector3d r2 = c.row.R.transpose() * normalized[i2][m[1]].homogeneous().normalized();
+      double z1, z2;
+      if (!TriangulateDepths(c.row.R, c.row.t, normalized[i1][m[0]], normalized[i2][m[1]], &z1, &z2)) continue;
+      if (z1 <= 0 || z2 <= 0) continue;
+      angles.push_back(std::acos(std::clamp(r1.dot(r2), -1.0, 1.0)) * 180.0 / M_PI);
+    }
+    c.tri_angle_deg = Median(angles);
+    if (c.tri_angle_deg < options.min_tri_angle_deg) continue;
+    const double depth_ratio =
+        c.row.num_inliers > 0
+            ? std::min(1.0, 0.5 * (c.row.num_inliers_reproj1 + c.row.num_inliers_reproj2) / c.row.num_inliers)
+            : 0.0;
+    // Many inliers, a good triangulation angle (saturating at 16 deg, COLMAP's init_min_tri_angle), and depth
+    // priors that agree with the pose (a consistent scale): all three make a stable seed.
+    c.score = c.row.num_inliers * std::min(1.0, c.tri_angle_deg / 16.0) * (0.5 + 0.5 * depth_ratio);
+    if (!best || c.score > best->score) {
+      best = &c;
+      best_inliers = geometry->inlier_matches;
+    }
+  }
+  if (!best) {
+    throw std::runtime_error("database '" + options.database_path +
+                             "': no estimated pair has a median triangulation angle of at least " +
+                             std::to_string(options.min_tri_angle_deg) + " deg among the " +
+                             std::to_string(candidates.size()) + " pairs with the most inliers");
+  }
+
+  colmap::image_t i1, i2;
+  colmap::PairIdToImagePair(best->row.pair_id, &i1, &i2);
+  const colmap::Image& im1 = images.at(i1);
+  const colmap::Image& im2 = images.at(i2);
+  colmap::Reconstruction model;
+  for (colmap::camera_t cid : {im1.camera_id, im2.camera_id}) {
+    model.cameras[cid] = colmap::ModelCamera{cid, cameras.at(cid).intrinsics};
+  }
+  const Eigen::Matrix3d& R = best->row.R;
+  const Eigen::Vector3d& t = best->row.t;
+  for (const colmap::Image* im : {&im1, &im2}) {
+    colmap::ModelImage mi;
+    mi.image_id = im->image_id;
+    mi.camera_id = im->camera_id;
+    mi.name = im->name;
+    mi.points2D = keypoints[im->image_id];
+    mi.point3D_ids.assign(mi.points2D.size(), colmap::kInvalidPoint3DId);
+    if (im == &im2) {
+      mi.qvec = colmap::RotationToQuaternion(R);
+      mi.tvec = t;
+    }
+    model.images[im->image_id] = mi;
+  }
+  const auto& cam1 = cameras.at(im1.camera_id).intrinsics;
+  const auto& cam2 = cameras.at(im2.camera_id).intrinsics;
+  uint64_t next_id = 1;
+  for (const auto& m : best_inliers) {
+    double z1, z2;
+    if (!TriangulateDepths(R, t, normalized[i1][m[0]], normalized[i2][m[1]], &z1, &z2) || z1 <= 0 || z2 <= 0) continue;
+    const Eigen::Vector3d X = z1 * normalized[i1][m[0]].homogeneous();
+    const Eigen::Vector3d X2 = R * X + t;
+    if (X2.z() <= 0) continue;
+    const double e1 = (colmap::CameraToImage(cam1, X.hnormalized()) - keypoints[i1][m[0]]).norm();
+    const double e2 = (colmap::CameraToImage(cam2, X2.hnormalized()) - keypoints[i2][m[1]]).norm();
+    if (!(e1 < options.max_reproj_error && e2 < options.max_reproj_error)) continue;
+    if (model.images[i1].point3D_ids[m[0]] != colmap::kInvalidPoint3DId ||
+        model.images[i2].point3D_ids[m[1]] != colmap::kInvalidPoint3DId) {
+      continue;  // a keypoint in two matches: keep the first
+    }
+    colmap::ModelPoint3D p;
+    p.xyz = X;
+    p.error = 0.5 * (e1 + e2);
+    p.track = {{i1, m[0]}, {i2, m[1]}};
+    model.points3D[next_id] = p;
+    model.images[i1].point3D_ids[m[0]] = next_id;
+    model.images[i2].point3D_ids[m[1]] = next_id;
+    ++next_id;
+  }
+  colmap::WriteReconstructionBinary(model, options.output_path);
+
+  SeedModelSummary s;
+  s.image_id1 = i1;
+  s.image_id2 = i2;
+  s.name1 = im1.name;
+  s.name2 = im2.name;
+  s.num_inliers = best->row.num_inliers;
+  s.num_points3D = static_cast<int>(model.points3D.size());
+  s.median_tri_angle_deg = best->tri_angle_deg;
+  s.score = best->score;
+  return s;
+}
+
+int RunSeedModel(int argc, char** argv) {
+  SeedModelOptions o;
+  OptionParser parser("seed_model",
+                      "Picks the initial pair (many hybrid inliers, good triangulation angle, depth-consistent scale)\n"
+                      "and writes a two-image sparse model (binary; all keypoints as points2D, triangulated inliers as\n"
+                      "points3D) that `colmap mapper --input_path` continues.");
+  parser.AddRequired("database_path", &o.database_path, "COLMAP database processed by two_view_estimator.");
+  parser.AddRequired("output_path", &o.output_path, "Folder for cameras.bin, images.bin, points3D.bin (created).");
+  parser.AddDefault("min_tri_angle", &o.min_tri_angle_deg, "Minimum median triangulation angle of the pair, deg.");
+  parser.AddDefault("min_num_inliers", &o.min_num_inliers, "Minimum inliers of the initial pair.");
+  if (!parser.Parse(argc, argv, 2)) return EXIT_FAILURE;
+  if (parser.help_requested()) return EXIT_SUCCESS;
+  try {
+    const SeedModelSummary s = RunSeedModelImpl(o);
+    std::printf("seed_model: initial pair %u '%s' - %u '%s': %d inliers, median triangulation angle %.1f deg, %d "
+                "points -> %s\n",
+                s.image_id1, s.name1.c_str(), s.image_id2, s.name2.c_str(), s.num_inliers, s.median_tri_angle_deg,
+                s.num_points3D, o.output_path.c_str());
+    return EXIT_SUCCESS;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "madsfm seed_model: error: %s\n", e.what());
+    return EXIT_FAILURE;
+  }
+}
+
+}  // namespace madsfm

@@ -1,0 +1,470 @@
+#include "colmap_ext/exe/two_view_estimator.h"
+
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#include "colmap_ext/camera/camera_models.h"
+#include "colmap_ext/database/database.h"
+#include "colmap_ext/depth/keypoint_depths.h"
+#include "colmap_ext/exe/option_parser.h"
+#include "colmap_ext/model/reconstruction.h"
+#include "madsfm/estimators/estimate_relpose.h"
+#include "madsfm/estimators/hybrid_lo_msac.h"
+#include "madsfm/geometry/essential_matrix.h"
+
+namespace madsfm {
+namespace {
+
+using colmap::image_t;
+using colmap::pair_t;
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+// Per image: undistorted normalised keypoints and the depth prior at every keypoint.
+struct ImageData {
+  colmap::Image image;
+  const colmap::Camera* camera = nullptr;
+  std::vector<Eigen::Vector2d> normalized;
+  std::vector<double> depth;
+  bool has_depth = false;
+};
+
+struct PairJob {
+  pair_t pair_id = 0;
+  const ImageData* image1 = nullptr;  // smaller id = view 0
+  const ImageData* image2 = nullptr;
+  CameraMode mode = CameraMode::kCalibrated;
+  std::vector<std::array<uint32_t, 2>> matches;
+  // Results
+  HybridEstimate estimate;
+  bool point_fallback = false;
+  bool ok = false;
+};
+
+uint64_t SplitMix(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+CameraMode PairMode(const std::string& requested, const colmap::Camera& c1, const colmap::Camera& c2) {
+  if (requested != "auto") return ParseCameraMode(requested);
+  if (c1.prior_focal_length && c2.prior_focal_length) return CameraMode::kCalibrated;
+  if (c1.camera_id == c2.camera_id) return CameraMode::kSharedFocal;
+  return CameraMode::kTwoFocal;
+}
+
+void EstimatePair(const TwoViewEstimatorOptions& options, PairJob* job) {
+  const ImageData& a = *job->image1;
+  const ImageData& b = *job->image2;
+  const size_t n = job->matches.size();
+  RelposeProblem p;
+  p.mode = job->mode;
+  p.x0.resize(n);
+  p.x1.resize(n);
+  p.d0.resize(n);
+  p.d1.resize(n);
+  const colmap::CameraIntrinsics& ka = a.camera->intrinsics;
+  const colmap::CameraIntrinsics& kb = b.camera->intrinsics;
+  // Focal modes work on undistorted pixel coordinates centred on the principal point (the current focal only
+  // scales the normalised coordinates back to pixels; it is not used as knowledge).
+  const double ua = job->mode == CameraMode::kCalibrated ? 1.0 : std::sqrt(ka.FocalX() * ka.FocalY());
+  const double ub = job->mode == CameraMode::kCalibrated ? 1.0 : std::sqrt(kb.FocalX() * kb.FocalY());
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t ia = job->matches[i][0], ib = job->matches[i][1];
+    p.x0[i] = a.normalized[ia] * ua;
+    p.x1[i] = b.normalized[ib] * ub;
+    p.d0[i] = a.depth[ia];
+    p.d1[i] = b.depth[ib];
+  }
+  if (job->mode == CameraMode::kCalibrated) {
+    p.pixel_scale0 = std::sqrt(ka.FocalX() * ka.FocalY());
+    p.pixel_scale1 = std::sqrt(kb.FocalX() * kb.FocalY());
+  } else {
+    const double dim = std::max({ka.width, ka.height, kb.width, kb.height});
+    p.min_focal = 0.1 * dim;
+    p.max_focal = 10.0 * dim;
+  }
+  p.IndexDepths();
+  HybridEstimatorOptions eo = options.estimator;
+  eo.seed = SplitMix(options.estimator.seed ^ SplitMix(job->pair_id));
+  const int k_depth = (job->mode == CameraMode::kCalibrated || !eo.estimate_shift) ? 3 : 4;
+  if (static_cast<int>(p.with_both_depths.size()) < std::max(k_depth, 8)) {
+    eo = PointOnlyOptions(eo);
+    job->point_fallback = true;
+  }
+  job->estimate = EstimateHybridRelpose(p, eo);
+  job->ok = job->estimate.success && job->estimate.num_inliers_sampson >= options.min_num_inliers;
+}
+
+colmap::TwoViewGeometryRow MakeGeometryRow(const PairJob& job) {
+  const AffineDepthPose& m = job.estimate.model;
+  colmap::TwoViewGeometryRow row;
+  row.pair_id = job.pair_id;
+  for (size_t i = 0; i < job.matches.size(); ++i) {
+    if (job.estimate.inliers_sampson[i]) row.inlier_matches.push_back(job.matches[i]);
+  }
+  const Eigen::Vector3d t_unit = m.t.normalized();
+  const Eigen::Matrix3d E = CrossProductMatrix(t_unit) * m.R;
+  const colmap::CameraIntrinsics& ka = job.image1->camera->intrinsics;
+  const colmap::CameraIntrinsics& kb = job.image2->camera->intrinsics;
+  Eigen::Matrix3d K1 = Eigen::Matrix3d::Identity(), K2 = Eigen::Matrix3d::Identity();
+  if (job.mode == CameraMode::kCalibrated) {
+    K1(0, 0) = ka.FocalX();
+    K1(1, 1) = ka.FocalY();
+    K2(0, 0) = kb.FocalX();
+    K2(1, 1) = kb.FocalY();
+  } else {
+    K1(0, 0) = K1(1, 1) = m.f0;
+    K2(0, 0) = K2(1, 1) = m.f1;
+  }
+  K1(0, 2) = ka.PrincipalX();
+  K1(1, 2) = ka.PrincipalY();
+  K2(0, 2) = kb.PrincipalX();
+  K2(1, 2) = kb.PrincipalY();
+  Eigen::Matrix3d F = K2.inverse().transpose() * E * K1.inverse();
+  F /= F.norm();
+  row.F = F;
+  if (job.mode == CameraMode::kCalibrated) {
+    row.config = colmap::kCalibrated;
+    row.E = E;
+  } else {
+    row.config = colmap::kUncalibrated;
+  }
+  row.qvec = colmap::RotationToQuaternion(m.R);
+  row.tvec = t_unit;
+  return row;
+}
+
+colmap::MadsfmPairRow MakeMadsfmRow(const PairJob& job, const std::string& fingerprint) {
+  const AffineDepthPose& m = job.estimate.model;
+  colmap::MadsfmPairRow row;
+  row.pair_id = job.pair_id;
+  row.camera_mode = static_cast<int>(job.mode);
+  row.method = job.point_fallback ? 1 : 0;
+  row.options_fingerprint = fingerprint;
+  row.status = job.ok ? 0 : 1;
+  if (job.estimate.success) {
+    row.R = m.R;
+    row.t = m.t;
+    row.scale = m.scale;
+    row.shift1 = m.shift0;
+    row.shift2 = m.shift1;
+    row.focal1 = m.f0;
+    row.focal2 = m.f1;
+    if (job.mode == CameraMode::kCalibrated) {
+      row.focal1 = std::sqrt(job.image1->camera->intrinsics.FocalX() * job.image1->camera->intrinsics.FocalY());
+      row.focal2 = std::sqrt(job.image2->camera->intrinsics.FocalX() * job.image2->camera->intrinsics.FocalY());
+    }
+    row.num_inliers_reproj1 = job.estimate.num_inliers_reproj0;
+    row.num_inliers_reproj2 = job.estimate.num_inliers_reproj1;
+    row.num_inliers_sampson = job.estimate.num_inliers_sampson;
+    row.num_inliers = job.estimate.num_inliers_sampson;
+    row.score = job.estimate.score;
+  }
+  return row;
+}
+
+std::set<std::pair<std::string, std::string>> ReadPairListFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read pair list '" + path + "'");
+  std::set<std::pair<std::string, std::string>> pairs;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ls(line);
+    std::string a, b;
+    if (!(ls >> a >> b)) {
+      throw std::runtime_error("pair list '" + path + "' line " + std::to_string(line_no) +
+                               ": expected two image names");
+    }
+    pairs.insert({a, b});
+    pairs.insert({b, a});
+  }
+  return pairs;
+}
+
+void PrintProgress(int done, int total, double elapsed, bool tty) {
+  if (total <= 0) return;
+  const double rate = elapsed > 0 ? done / elapsed : 0.0;
+  if (tty) {
+    const int width = 30, filled = width * done / total;
+    std::fprintf(stderr, "\rtwo_view_estimator [%s%s] %d/%d pairs, %.0f pairs/s", std::string(filled, '#').c_str(),
+                 std::string(width - filled, ' ').c_str(), done, total, rate);
+    if (done == total) std::fprintf(stderr, "\n");
+  } else {
+    std::fprintf(stderr, "two_view_estimator: %d/%d pairs, %.0f pairs/s\n", done, total, rate);
+  }
+}
+
+}  // namespace
+
+std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
+  std::ostringstream s;
+  s.precision(17);
+  const HybridEstimatorOptions& e = o.estimator;
+  s << "madsfm-1;mode=" << o.camera_mode << ";depth=" << (o.depth_path.empty() ? "-" : o.depth_path)
+    << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
+    << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
+    << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";it=" << e.min_iterations
+    << "-" << e.max_iterations << ";conf=" << e.confidence << ";lo=" << e.num_lo_steps << "/"
+    << e.lo_max_lm_iterations << ";final=" << e.final_refinement << "/" << e.final_max_lm_iterations << "/"
+    << e.final_reprojection_weight << ";seed=" << e.seed;
+  return s.str();
+}
+
+TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& options) {
+  const auto t_start = Clock::now();
+  TwoViewEstimatorSummary summary;
+  options.estimator.Check();
+  if (options.camera_mode != "auto") ParseCameraMode(options.camera_mode);
+  const colmap::DepthType depth_type = colmap::ParseDepthType(options.depth_type);
+  if (options.batch_size < 1) throw std::invalid_argument("--batch_size must be >= 1");
+  const std::string fingerprint = OptionsFingerprint(options);
+
+  auto db = colmap::Database::Open(options.database_path, /*read_only=*/false);
+  const std::vector<colmap::Camera> cameras = db->ReadCameras();
+  std::map<colmap::camera_t, const colmap::Camera*> camera_by_id;
+  for (const auto& c : cameras) camera_by_id[c.camera_id] = &c;
+  std::map<image_t, ImageData> images;
+  for (const colmap::Image& im : db->ReadImages()) images[im.image_id].image = im;
+
+  // Pairs to estimate.
+  std::vector<std::pair<pair_t, int>> pairs = db->ReadMatchedPairs();
+  if (!options.pair_list.empty()) {
+    const auto allowed = ReadPairListFile(options.pair_list);
+    std::vector<std::pair<pair_t, int>> kept;
+    for (const auto& pr : pairs) {
+      image_t i1, i2;
+      colmap::PairIdToImagePair(pr.first, &i1, &i2);
+      if (images.count(i1) && images.count(i2) && allowed.count({images[i1].image.name, images[i2].image.name})) {
+        kept.push_back(pr);
+      }
+    }
+    pairs = kept;
+  }
+  summary.num_pairs = static_cast<int>(pairs.size());
+
+  // Which pairs still need work (resume), and which images they touch.
+  std::vector<pair_t> todo;
+  std::set<image_t> needed;
+  db->CreateMadsfmTables();
+  for (const auto& [pair_id, num_matches] : pairs) {
+    if (num_matches < options.min_num_matches) {
+      ++summary.num_skipped_few_matches;
+      continue;
+    }
+    if (!options.overwrite) {
+      const auto done = db->ReadMadsfmPair(pair_id);
+      if (done && done->options_fingerprint == fingerprint) {
+        ++summary.num_skipped_done;
+        continue;
+      }
+    }
+    image_t i1, i2;
+    colmap::PairIdToImagePair(pair_id, &i1, &i2);
+    if (!images.count(i1) || !images.count(i2)) {
+      throw std::runtime_error("database '" + options.database_path + "': pair " + std::to_string(pair_id) +
+                               " refers to image " + std::to_string(images.count(i1) ? i2 : i1) +
+                               " which is not in the images table");
+    }
+    todo.push_back(pair_id);
+    needed.insert(i1);
+    needed.insert(i2);
+  }
+
+  // Read and prepare every needed image once: cameras, undistorted keypoints, depth at the keypoints.
+  const auto t_read = Clock::now();
+  for (image_t id : needed) {
+    ImageData& data = images[id];
+    const auto cam = camera_by_id.find(data.image.camera_id);
+    if (cam == camera_by_id.end()) {
+      throw std::runtime_error("database '" + options.database_path + "': image " + std::to_string(id) + " ('" +
+                               data.image.name + "') uses camera " + std::to_string(data.image.camera_id) +
+                               " which is not in the cameras table");
+    }
+    data.camera = cam->second;
+    const colmap::CameraIntrinsics& k = data.camera->intrinsics;
+    if (!colmap::IsSupportedCameraModel(k.model_id)) {
+      throw std::runtime_error("database '" + options.database_path + "': camera " +
+                               std::to_string(data.camera->camera_id) + " has model " +
+                               colmap::CameraModelName(k.model_id) +
+                               ", which madsfm does not support (supported: SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, "
+                               "RADIAL, OPENCV, FULL_OPENCV, OPENCV_FISHEYE)");
+    }
+    const std::vector<Eigen::Vector2d> keypoints = db->ReadKeypoints(id);
+    data.normalized.resize(keypoints.size());
+    for (size_t i = 0; i < keypoints.size(); ++i) data.normalized[i] = colmap::ImageToCamera(k, keypoints[i]);
+    if (!options.depth_path.empty()) {
+      colmap::KeypointDepths kd =
+          colmap::LoadKeypointDepths(options.depth_path, data.image.name, k.width, k.height, keypoints, depth_type);
+      data.depth = std::move(kd.depth);
+      data.has_depth = !kd.sidecar.empty();
+    } else {
+      data.depth.assign(keypoints.size(), std::numeric_limits<double>::quiet_NaN());
+    }
+    summary.num_images_with_depth += data.has_depth;
+  }
+  summary.num_images = static_cast<int>(needed.size());
+  summary.read_seconds += Seconds(t_read, Clock::now());
+
+  if (!todo.empty()) {
+    colmap::Database::Transaction txn(db.get());
+    db->BackupTwoViewGeometries();
+    txn.Commit();
+  }
+
+  const int threads = options.num_threads > 0 ? options.num_threads
+                                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const bool tty = options.progress && isatty(STDERR_FILENO);
+  int done = 0;
+  const auto t_loop = Clock::now();
+  auto last_progress = t_loop;
+  for (size_t start = 0; start < todo.size(); start += options.batch_size) {
+    const size_t end = std::min(todo.size(), start + options.batch_size);
+    std::vector<PairJob> jobs(end - start);
+    // Read the batch's matches (one connection, this thread).
+    const auto t0 = Clock::now();
+    for (size_t j = 0; j < jobs.size(); ++j) {
+      PairJob& job = jobs[j];
+      job.pair_id = todo[start + j];
+      image_t i1, i2;
+      colmap::PairIdToImagePair(job.pair_id, &i1, &i2);
+      job.image1 = &images[i1];
+      job.image2 = &images[i2];
+      job.mode = PairMode(options.camera_mode, *job.image1->camera, *job.image2->camera);
+      job.matches = db->ReadMatches(job.pair_id);
+      const size_t n1 = job.image1->normalized.size(), n2 = job.image2->normalized.size();
+      for (const auto& m : job.matches) {
+        if (m[0] >= n1 || m[1] >= n2) {
+          throw std::runtime_error("database '" + options.database_path + "': matches of pair " +
+                                   std::to_string(job.pair_id) + " (images " + std::to_string(i1) + ", " +
+                                   std::to_string(i2) + ") point past the keypoints (" + std::to_string(m[0]) +
+                                   ", " + std::to_string(m[1]) + " vs " + std::to_string(n1) + ", " +
+                                   std::to_string(n2) + " keypoints)");
+        }
+      }
+    }
+    const auto t1 = Clock::now();
+    summary.read_seconds += Seconds(t0, t1);
+    // Estimate in parallel.
+    std::atomic<size_t> next{0};
+    auto worker = [&]() {
+      for (size_t j; (j = next++) < jobs.size();) EstimatePair(options, &jobs[j]);
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& t : pool) t.join();
+    const auto t2 = Clock::now();
+    summary.estimate_seconds += Seconds(t1, t2);
+    // Write the batch in one transaction: a kill leaves either all of it or none of it.
+    {
+      colmap::Database::Transaction txn(db.get());
+      for (const PairJob& job : jobs) {
+        summary.estimate_cpu_seconds += job.estimate.runtime_ms / 1000.0;
+        if (job.ok) {
+          db->WriteTwoViewGeometry(MakeGeometryRow(job));
+          ++summary.num_estimated;
+          summary.num_point_fallback += job.point_fallback;
+        } else {
+          ++summary.num_failed;
+        }
+        db->WriteMadsfmPair(MakeMadsfmRow(job, fingerprint));
+      }
+      txn.Commit();
+    }
+    summary.write_seconds += Seconds(t2, Clock::now());
+    done += static_cast<int>(jobs.size());
+    if (options.progress && (Seconds(last_progress, Clock::now()) > 1.0 || done == static_cast<int>(todo.size()))) {
+      PrintProgress(done, static_cast<int>(todo.size()), Seconds(t_loop, Clock::now()), tty);
+      last_progress = Clock::now();
+    }
+  }
+  summary.total_seconds = Seconds(t_start, Clock::now());
+  return summary;
+}
+
+int RunTwoViewEstimator(int argc, char** argv) {
+  TwoViewEstimatorOptions o;
+  OptionParser parser(
+      "two_view_estimator",
+      "Estimates every matched image pair of a COLMAP database with the hybrid affine-depth estimator and writes\n"
+      "two-view geometries (inlier matches, E or F, relative pose) back, plus madsfm's own table. COLMAP's\n"
+      "original rows are backed up first (madsfm restore puts them back). Resumable: pairs done with the same\n"
+      "options are skipped. Images without a depth sidecar fall back to the point-only method.");
+  parser.AddRequired("database_path", &o.database_path, "COLMAP database (3.8 ... 4.x).");
+  parser.AddDefault("depth_path", &o.depth_path,
+                    "Folder of depth sidecars: <image name>.npy / .pfm / .geometric.bin ... (docs/formats.md).");
+  parser.AddDefault("camera_mode", &o.camera_mode,
+                    "auto | calibrated | shared_focal | two_focal. auto: calibrated if both cameras have a focal\n"
+                    "      prior, shared_focal if both images use one camera, else two_focal.");
+  parser.AddDefault("depth_type", &o.depth_type, "depth | disparity (disparity maps are inverted first).");
+  parser.AddDefault("pair_list", &o.pair_list, "Optional file of 'name1 name2' lines: only these pairs.");
+  parser.AddDefault("num_threads", &o.num_threads, "Threads (-1: all cores).");
+  parser.AddDefault("overwrite", &o.overwrite, "Re-estimate pairs already done with the same options.");
+  parser.AddDefault("min_num_matches", &o.min_num_matches, "Pairs with fewer raw matches are skipped.");
+  parser.AddDefault("min_num_inliers", &o.min_num_inliers, "Fewer inliers: the pair keeps COLMAP's row.");
+  parser.AddDefault("reproj_threshold", &o.estimator.reproj_threshold,
+                    "Reprojection inlier threshold, px (paper: 8 indoor ~640 px images, 16 outdoor/large).");
+  parser.AddDefault("epipolar_threshold", &o.estimator.epipolar_threshold, "Sampson inlier threshold, px.");
+  parser.AddDefault("min_iterations", &o.estimator.min_iterations, "Minimum RANSAC iterations.");
+  parser.AddDefault("max_iterations", &o.estimator.max_iterations, "Maximum RANSAC iterations.");
+  int seed = 0;
+  parser.AddDefault("seed", &seed, "Random seed (results do not depend on the thread count).");
+  if (!parser.Parse(argc, argv, 2)) return EXIT_FAILURE;
+  if (parser.help_requested()) return EXIT_SUCCESS;
+  o.estimator.seed = static_cast<uint64_t>(seed);
+  try {
+    const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(o);
+    std::printf("two_view_estimator: %d matched pairs: %d estimated (%d point-only for lack of depth), %d failed "
+                "(COLMAP's rows kept), %d already done, %d with < %d matches\n",
+                s.num_pairs, s.num_estimated, s.num_point_fallback, s.num_failed, s.num_skipped_done,
+                s.num_skipped_few_matches, o.min_num_matches);
+    std::printf("two_view_estimator: %d images, %d with depth; time %.2f s (read %.2f s, estimate %.2f s, write %.2f s)\n",
+                s.num_images, s.num_images_with_depth, s.total_seconds, s.read_seconds, s.estimate_seconds,
+                s.write_seconds);
+    return EXIT_SUCCESS;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "madsfm two_view_estimator: error: %s\n", e.what());
+    return EXIT_FAILURE;
+  }
+}
+
+int RunRestore(int argc, char** argv) {
+  std::string database_path;
+  OptionParser parser("restore",
+                      "Puts back COLMAP's original two-view geometries and cameras that madsfm replaced, and drops\n"
+                      "madsfm's tables.");
+  parser.AddRequired("database_path", &database_path, "COLMAP database.");
+  if (!parser.Parse(argc, argv, 2)) return EXIT_FAILURE;
+  if (parser.help_requested()) return EXIT_SUCCESS;
+  try {
+    auto db = colmap::Database::Open(database_path);
+    const int n = db->RestoreTwoViewGeometries();
+    std::printf("restore: %d two-view geometries restored in '%s'\n", n, database_path.c_str());
+    return EXIT_SUCCESS;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "madsfm restore: error: %s\n", e.what());
+    return EXIT_FAILURE;
+  }
+}
+
+}  // namespace madsfm

@@ -1,0 +1,47 @@
+// `madsfm two_view_estimator`: the hybrid affine-depth estimator on every matched pair of a COLMAP database,
+// written back as two-view geometries (issue 5), and `madsfm restore`.
+#pragma once
+
+#include <string>
+
+#include "madsfm/estimators/hybrid_estimator_options.h"
+
+namespace madsfm {
+
+struct TwoViewEstimatorOptions {
+  std::string database_path;
+  std::string depth_path;            // folder of depth sidecars (design.md section 5); may be empty: points only
+  std::string camera_mode = "auto";  // auto | calibrated | shared_focal | two_focal
+  std::string depth_type = "depth";  // depth | disparity
+  std::string pair_list;             // optional file of "name1 name2" lines restricting the pairs
+  int num_threads = -1;              // -1: all cores
+  bool overwrite = false;            // re-estimate pairs already done with the same options
+  int min_num_matches = 15;          // pairs with fewer raw matches are skipped
+  int min_num_inliers = 15;          // fewer inliers: the pair keeps COLMAP's own row
+  int batch_size = 256;              // pairs per write transaction
+  bool progress = true;
+  HybridEstimatorOptions estimator;
+};
+
+struct TwoViewEstimatorSummary {
+  int num_pairs = 0;           // matched pairs considered
+  int num_estimated = 0;       // written with a madsfm model
+  int num_point_fallback = 0;  // of which estimated with the point-only method (missing depth)
+  int num_failed = 0;          // no model / too few inliers: COLMAP's row kept
+  int num_skipped_done = 0;    // already done with the same options (resume)
+  int num_skipped_few_matches = 0;
+  int num_images_with_depth = 0, num_images = 0;
+  double read_seconds = 0, estimate_seconds = 0, write_seconds = 0, total_seconds = 0;
+  double estimate_cpu_seconds = 0;  // summed per-pair estimator time
+};
+
+// Runs the estimator; throws std::runtime_error / std::invalid_argument with a clear message on bad input.
+TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& options);
+
+int RunTwoViewEstimator(int argc, char** argv);
+int RunRestore(int argc, char** argv);
+
+// The string stored with every pair result; a rerun with a different one re-estimates.
+std::string OptionsFingerprint(const TwoViewEstimatorOptions& options);
+
+}  // namespace madsfm
