@@ -1,0 +1,213 @@
+#include "colmap_ext/exe/two_view_estimator.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <fstream>
+
+#include "colmap_ext/database/database.h"
+#include "colmap_ext/exe/focal_estimator.h"
+#include "madsfm/estimators/relpose_problem.h"
+#include "madsfm/geometry/pose_error.h"
+#include "madsfm/io/depth_map_io.h"
+#include "madsfm/synthetic/two_view_scene.h"
+#include "testing/colmap_database_builder.h"
+
+namespace madsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A COLMAP 3.8 database holding `num_pairs` independent synthetic pairs (images 2k+1, 2k+2), one camera per
+// pair (SIMPLE_PINHOLE; with `calibrated` the true focal and a prior, else COLMAP's 1.2 max(W, H) guess),
+// identity matches, and depth sidecars <name>.npy.
+struct Project {
+  std::string dir, db, depths;
+  std::vector<SyntheticPair> pairs;
+};
+
+Project MakeProject(const std::string& name, int num_pairs, bool calibrated) {
+  Project p;
+  p.dir = (fs::temp_directory_path() / ("madsfm_tve_" + name)).string();
+  fs::remove_all(p.dir);
+  fs::create_directories(p.dir + "/depths");
+  p.db = p.dir + "/database.db";
+  p.depths = p.dir + "/depths";
+  testing::ColmapDatabaseBuilder b(p.db);
+  SyntheticPairOptions opt = *SyntheticPairPreset("indoor_shared_focal");
+  opt.num_matches = 300;
+  opt.min_outlier_ratio = opt.max_outlier_ratio = 0.3;
+  p.pairs = GenerateTwoViewSet(opt, num_pairs, 7);
+  for (int k = 0; k < num_pairs; ++k) {
+    const PairData& d = p.pairs[k].pair;
+    const double f = calibrated ? d.K0(0, 0) : 1.2 * std::max(d.width0, d.height0);
+    const uint32_t cam = b.AddCamera(0, d.width0, d.height0, {f, d.K0(0, 2) + 0.5, d.K0(1, 2) + 0.5}, calibrated);
+    const std::string n1 = "pair" + std::to_string(k) + "_a.png", n2 = "pair" + std::to_string(k) + "_b.png";
+    const uint32_t i1 = b.AddImage(n1, cam), i2 = b.AddImage(n2, cam);
+    std::vector<Eigen::Vector2d> k1, k2;
+    std::vector<std::array<uint32_t, 2>> matches;
+    for (size_t i = 0; i < d.p0.size(); ++i) {
+      k1.push_back(d.p0[i] + Eigen::Vector2d(0.5, 0.5));
+      k2.push_back(d.p1[i] + Eigen::Vector2d(0.5, 0.5));
+      matches.push_back({static_cast<uint32_t>(i), static_cast<uint32_t>(i)});
+    }
+    b.AddKeypoints(i1, k1);
+    b.AddKeypoints(i2, k2);
+    b.AddMatches(i1, i2, matches);
+    WriteDepthMapNpy(*d.depth0, p.depths + "/" + n1 + ".npy");
+    WriteDepthMapNpy(*d.depth1, p.depths + "/" + n2 + ".npy");
+  }
+  return p;
+}
+
+TwoViewEstimatorOptions Options(const Project& p, int threads = 2) {
+  TwoViewEstimatorOptions o;
+  o.database_path = p.db;
+  o.depth_path = p.depths;
+  o.num_threads = threads;
+  o.progress = false;
+  return o;
+}
+
+TEST(TwoViewEstimator, EstimatesEveryPairAndWritesColmapRows) {
+  const Project p = MakeProject("estimate", 6, false);
+  const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(Options(p));
+  EXPECT_EQ(s.num_pairs, 6);
+  EXPECT_EQ(s.num_estimated, 6);
+  EXPECT_EQ(s.num_point_fallback, 0);
+  EXPECT_EQ(s.num_images_with_depth, 12);
+  EXPECT_EQ(testing::IntegrityCheck(p.db), "ok");
+  auto db = colmap::Database::Open(p.db, true);
+  int accurate = 0;
+  for (int k = 0; k < 6; ++k) {
+    const colmap::pair_t id = colmap::ImagePairToPairId(2 * k + 1, 2 * k + 2);
+    const auto row = db->ReadMadsfmPair(id);
+    ASSERT_TRUE(row.has_value());
+    EXPECT_EQ(row->camera_mode, static_cast<int>(CameraMode::kSharedFocal));
+    const auto geometry = db->ReadTwoViewGeometry(id);
+    ASSERT_TRUE(geometry.has_value());
+    EXPECT_EQ(geometry->config, colmap::kUncalibrated);
+    EXPECT_EQ(static_cast<int>(geometry->inlier_matches.size()), row->num_inliers_sampson);
+    const Eigen::Matrix4d& T = *p.pairs[k].pair.T_0to1;
+    const double rot = RotationErrorDeg(row->R, T.topLeftCorner<3, 3>());
+    const double focal = std::abs(row->focal1 / p.pairs[k].focal0 - 1.0);
+    accurate += rot < 1.0 && focal < 0.05;
+    // The inliers are (mostly) the true inliers: 30% outliers were generated.
+    EXPECT_GT(geometry->inlier_matches.size(), 0.6 * 300);
+    EXPECT_LT(geometry->inlier_matches.size(), 0.75 * 300);
+  }
+  EXPECT_GE(accurate, 5);
+}
+
+TEST(TwoViewEstimator, ResumesAndIsDeterministicAcrossThreadCounts) {
+  const Project a = MakeProject("det_a", 5, true);
+  const Project b = MakeProject("det_b", 5, true);
+  RunTwoViewEstimatorImpl(Options(a, 1));
+  RunTwoViewEstimatorImpl(Options(b, 2));
+  EXPECT_EQ(testing::DumpTable(a.db, "two_view_geometries"), testing::DumpTable(b.db, "two_view_geometries"));
+  // The rows are identical but for the depth folder named in the options fingerprint.
+  std::string rows_b = testing::DumpTable(b.db, "madsfm_two_view_geometries");
+  for (size_t at; (at = rows_b.find("det_b")) != std::string::npos;) rows_b.replace(at, 5, "det_a");
+  EXPECT_EQ(testing::DumpTable(a.db, "madsfm_two_view_geometries"), rows_b);
+  // A second run with the same options skips every pair and changes nothing.
+  const std::string before = testing::DumpTable(a.db, "two_view_geometries");
+  const TwoViewEstimatorSummary again = RunTwoViewEstimatorImpl(Options(a, 2));
+  EXPECT_EQ(again.num_skipped_done, 5);
+  EXPECT_EQ(again.num_estimated, 0);
+  EXPECT_EQ(testing::DumpTable(a.db, "two_view_geometries"), before);
+  // Calibrated cameras (focal priors) are estimated in calibrated mode with E.
+  auto db = colmap::Database::Open(a.db, true);
+  const auto geometry = db->ReadTwoViewGeometry(colmap::ImagePairToPairId(1, 2));
+  ASSERT_TRUE(geometry.has_value());
+  EXPECT_EQ(geometry->config, colmap::kCalibrated);
+  EXPECT_TRUE(geometry->E.has_value());
+}
+
+TEST(TwoViewEstimator, RestorePutsColmapRowsBack) {
+  const Project p = MakeProject("restore", 3, false);
+  // COLMAP's matcher wrote a geometry for pair (1, 2) before (config 3, three inlier matches).
+  testing::ExecSql(p.db, "INSERT INTO two_view_geometries(pair_id, rows, cols, data, config) VALUES(" +
+                             std::to_string(colmap::ImagePairToPairId(1, 2)) +
+                             ", 3, 2, x'000000000000000001000000010000000200000002000000', 3)");
+  const std::string tvg_before = testing::DumpTable(p.db, "two_view_geometries");
+  const std::string cams_before = testing::DumpTable(p.db, "cameras");
+  RunTwoViewEstimatorImpl(Options(p));
+  FocalEstimatorOptions fo;
+  fo.database_path = p.db;
+  RunFocalEstimatorImpl(fo);
+  EXPECT_NE(testing::DumpTable(p.db, "two_view_geometries"), tvg_before);
+  EXPECT_NE(testing::DumpTable(p.db, "cameras"), cams_before);
+  auto db = colmap::Database::Open(p.db);
+  db->RestoreTwoViewGeometries();
+  db.reset();
+  EXPECT_EQ(testing::DumpTable(p.db, "two_view_geometries"), tvg_before);
+  EXPECT_EQ(testing::DumpTable(p.db, "cameras"), cams_before);
+  EXPECT_EQ(testing::IntegrityCheck(p.db), "ok");
+}
+
+TEST(TwoViewEstimator, FocalEstimatorRecoversTheFocalLengths) {
+  const Project p = MakeProject("focal", 6, false);
+  RunTwoViewEstimatorImpl(Options(p));
+  FocalEstimatorOptions fo;
+  fo.database_path = p.db;
+  const auto changes = RunFocalEstimatorImpl(fo);
+  ASSERT_EQ(changes.size(), 6u);
+  int good = 0;
+  for (size_t k = 0; k < changes.size(); ++k) {
+    EXPECT_TRUE(changes[k].updated);
+    good += std::abs(changes[k].new_focal / p.pairs[k].focal0 - 1.0) < 0.03;
+  }
+  EXPECT_GE(good, 5);
+  auto db = colmap::Database::Open(p.db, true);
+  for (const auto& cam : db->ReadCameras()) EXPECT_TRUE(cam.prior_focal_length);
+}
+
+TEST(TwoViewEstimator, ImagesWithoutDepthFallBackToPoints) {
+  const Project p = MakeProject("nodepth", 3, true);
+  TwoViewEstimatorOptions o = Options(p);
+  o.depth_path = p.dir + "/no_such_folder_but_allowed";
+  fs::create_directories(o.depth_path);
+  const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(o);
+  EXPECT_EQ(s.num_estimated, 3);
+  EXPECT_EQ(s.num_point_fallback, 3);
+  EXPECT_EQ(s.num_images_with_depth, 0);
+}
+
+TEST(TwoViewEstimator, BadInputGivesClearErrorsAndLeavesTheDatabaseUnchanged) {
+  const Project p = MakeProject("bad", 2, true);
+  const std::string before = testing::DumpTable(p.db, "two_view_geometries");
+  // A corrupt depth file names the file.
+  { std::ofstream(p.depths + "/pair0_a.png.npy") << "not an npy file"; }
+  try {
+    RunTwoViewEstimatorImpl(Options(p));
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("pair0_a.png.npy"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(testing::DumpTable(p.db, "two_view_geometries"), before);
+  // A missing database names the path.
+  TwoViewEstimatorOptions o = Options(p);
+  o.database_path = p.dir + "/missing.db";
+  try {
+    RunTwoViewEstimatorImpl(o);
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("missing.db"), std::string::npos) << e.what();
+  }
+  // An unsupported camera model (FOV, id 7) names the camera; nothing is written.
+  const Project q = MakeProject("badcam", 1, true);
+  testing::ExecSql(q.db, "UPDATE cameras SET model = 7, params = x'" + std::string(80, '0') + "' WHERE camera_id = 1");
+  const std::string q_before = testing::DumpTable(q.db, "two_view_geometries");
+  try {
+    RunTwoViewEstimatorImpl(Options(q));
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("camera 1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("FOV"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(testing::DumpTable(q.db, "two_view_geometries"), q_before);
+}
+
+}  // namespace
+}  // namespace madsfm
