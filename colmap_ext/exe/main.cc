@@ -9,7 +9,9 @@
 
 #include "colmap_ext/exe/pair_commands.h"
 #include "colmap_ext/exe/focal_estimator.h"
+#include "colmap_ext/exe/import_pair_command.h"
 #include "colmap_ext/exe/mapper_command.h"
+#include "colmap_ext/exe/model_compare_command.h"
 #include "colmap_ext/exe/seed_model.h"
 #include "colmap_ext/exe/synth_command.h"
 #include "colmap_ext/exe/two_view_estimator.h"
@@ -32,6 +34,8 @@ const std::vector<Command>& Commands() {
       {"restore", madsfm::RunRestore, "Put COLMAP's original two-view geometries and cameras back"},
       {"pair", madsfm::RunPair, "Estimate one pair directory (relative pose, depth scale/shifts, focals) -> JSON"},
       {"bench", madsfm::RunBench, "Run methods over many pair directories -> accuracy/runtime tables, CSV"},
+      {"import_pair", madsfm::RunImportPair, "Pair directory -> COLMAP project (database, images, depth sidecars)"},
+      {"model_compare", madsfm::RunModelCompare, "Sparse model vs ground-truth poses: registered, rotation/focal errors"},
       {"synth", madsfm::RunSynth, "Write synthetic two-view pair directories with ground truth"},
   };
   return commands;
