@@ -35,8 +35,11 @@ constexpr double kEps = 2.220446049250313e-16;
 constexpr double kChainTol = 1e-13;
 // A reported root x satisfies |p(x)| <= kResidualTol * sum_k |c_k| |x|^k.
 constexpr double kResidualTol = 1e-10;
-// A Sturm remainder smaller than this relative to the terms it came from signals near-multiple roots.
-constexpr double kNearMultipleRatio = 1e-8;
+// When the estimated relative error of the Sturm chain exceeds this (near-multiple roots, clusters,
+// roots on scales far apart), the roots are isolated by the extrema of p instead (recursively, up to
+// kMaxFallbackDepth derivatives deep).
+constexpr double kChainMaxError = 1e-7;
+constexpr int kMaxFallbackDepth = 4;
 // Polishing stops after a step below kStepTol (relative), or earlier when the last two steps predict
 // (cubic convergence) an error below kPredictedTol after the current one.
 constexpr double kStepTol = 1e-10;
@@ -131,9 +134,9 @@ struct SturmChain {
   int degree = 0;  // of p
   int size = 0;    // number of members
   int member_degree[kMaxN + 1];
-  // Smallest ratio between a remainder and the terms it was computed from (1 if none): tiny values
-  // mean p and p' nearly share a root.
-  double min_ratio = 1.0;
+  // Estimated relative error of the members (rounding errors grow by the cancellation in each
+  // remainder); infinite when a remainder vanished numerically (p and p' nearly share a root).
+  double error = 0.0;
   // Beyond this |x| the members are evaluated in 1 / x (x^n could overflow).
   double forward_limit = 1.0;
   alignas(32) double t[(kMaxN + 1) * kStride];
@@ -150,69 +153,79 @@ void StoreMember(const double* c, int degree, double sign, SturmChain* ch) {
 void BuildSturmChain(const double* a, int n, SturmChain* ch) {
   ch->degree = n;
   ch->size = 0;
-  ch->min_ratio = 1.0;
+  ch->error = 0.0;
+  double prev_error = 0.0, cur_error = kEps;
   // The working polynomials are b_i = sign_i s_i: b_{i+1} = b_{i-1} mod b_i (no negation and no
   // rescaling on the critical path), so sign_{i+1} = -sign_{i-1}. Zero-padded to degree n.
   double buffers[2][kMaxN + 2];
   double* prev = buffers[0];
   double* cur = buffers[1];
-  double prev_max = 0.0, cur_max = 0.0;
   for (int k = 0; k < n; ++k) {
     prev[k] = a[k];
     cur[k] = (k + 1) * a[k + 1];
-    prev_max = std::max(prev_max, std::abs(prev[k]));
-    cur_max = std::max(cur_max, std::abs(cur[k]));
   }
   prev[n] = a[n];
   cur[n] = 0.0;
   cur[n + 1] = prev[n + 1] = 0.0;
-  prev_max = std::max(prev_max, std::abs(a[n]));
   double prev_sign = 1.0, cur_sign = 1.0;
   int dprev = n, dcur = n - 1;
   StoreMember(prev, dprev, 1.0, ch);
   StoreMember(cur, dcur, 1.0, ch);
   while (dcur > 0) {
-    // prev <- prev mod cur, in place.
+    // prev <- prev mod cur, in place; mag_j = sum of the magnitudes of the terms that made r_j, the
+    // scale of its rounding error.
+    double mag[kMaxN + 2];
     const double inv_lead = 1.0 / cur[dcur];
-    double qsum = 0.0;
     if (dprev == dcur + 1) {
       // The usual case, a linear quotient q1 x + q0: r_j = prev_j - q1 cur_{j-1} - q0 cur_j.
       const double q1 = -prev[dprev] * inv_lead;
       const double q0 = -MulAdd(q1, cur[dcur - 1], prev[dcur]) * inv_lead;
-      qsum = std::abs(q1) + std::abs(q0);
+      const double a1 = std::abs(q1), a0 = std::abs(q0);
+      mag[0] = MulAdd(a0, std::abs(cur[0]), std::abs(prev[0]));
       prev[0] = MulAdd(q0, cur[0], prev[0]);
-      for (int j = 1; j < dcur; ++j) prev[j] = MulAdd(q0, cur[j], MulAdd(q1, cur[j - 1], prev[j]));
+      for (int j = 1; j < dcur; ++j) {
+        mag[j] = MulAdd(a0, std::abs(cur[j]), MulAdd(a1, std::abs(cur[j - 1]), std::abs(prev[j])));
+        prev[j] = MulAdd(q0, cur[j], MulAdd(q1, cur[j - 1], prev[j]));
+      }
     } else {
+      for (int j = 0; j < dcur; ++j) mag[j] = std::abs(prev[j]);
       for (int k = dprev; k >= dcur; --k) {
         const double q = -prev[k] * inv_lead;
-        qsum += std::abs(q);
         double* pk = prev + (k - dcur);
-        for (int j = 0; j < dcur; ++j) pk[j] = MulAdd(q, cur[j], pk[j]);
+        for (int j = 0; j < dcur; ++j) {
+          pk[j] = MulAdd(q, cur[j], pk[j]);
+          if (k - dcur + j < dcur) mag[k - dcur + j] += std::abs(q * cur[j]);
+        }
       }
     }
     for (int j = dcur; j <= dprev; ++j) prev[j] = 0.0;  // eliminated (zero up to rounding)
-    const double size = prev_max + qsum * cur_max;
-    const double threshold = kChainTol * size;
+    // Coefficients at the level of their rounding error are zero: a degree drop, or the end of the
+    // chain (cur divides prev numerically: it is the gcd, and p has multiple roots).
     int dr = dcur - 1;
-    while (dr >= 0 && std::abs(prev[dr]) <= threshold) prev[dr--] = 0.0;
+    while (dr >= 0 && std::abs(prev[dr]) <= kChainTol * mag[dr]) prev[dr--] = 0.0;
     if (dr < 0) {
-      ch->min_ratio = 0.0;
-      break;  // cur divides prev numerically: cur is the gcd (multiple roots)
+      ch->error = INFINITY;
+      break;
     }
-    double rmax = 0.0;
-    for (int j = 0; j <= dr; ++j) rmax = std::max(rmax, std::abs(prev[j]));
-    ch->min_ratio = std::min(ch->min_ratio, rmax / size);
+    double rmax = 0.0, mag_max = 0.0;
+    for (int j = 0; j <= dr; ++j) {
+      rmax = std::max(rmax, std::abs(prev[j]));
+      mag_max = std::max(mag_max, mag[j]);
+    }
+    // A degree drop means the leading coefficient cancelled to rounding level: what is left is not
+    // to be trusted either.
+    const double new_error = dr < dcur - 1 ? INFINITY : (std::max(prev_error, cur_error) + kEps) * mag_max / rmax;
+    ch->error = std::max(ch->error, new_error);
+    prev_error = cur_error;
+    cur_error = new_error;
     if (rmax < 0x1p-300 || rmax > 0x1p300) {  // keep the magnitudes in range
       const double f = Pow2(std::clamp(-Exponent(rmax), -1000, 1000));
       for (int j = 0; j <= dr; ++j) prev[j] *= f;
-      rmax *= f;
     }
     const double new_sign = -prev_sign;
     std::swap(prev, cur);
     prev_sign = cur_sign;
     cur_sign = new_sign;
-    prev_max = cur_max;
-    cur_max = rmax;
     dprev = dcur;
     dcur = dr;
     StoreMember(cur, dcur, cur_sign, ch);
@@ -386,11 +399,12 @@ void PolishLockStep(const double* f, int d, Bracket* brackets, int count) {
       Vec4 step;
       Mask4 cubic;
       if (laguerre_iteration) {
-        // Laguerre: d p / (p' +- sqrt((d - 1) ((d - 1) p'^2 - d p p''))); Newton if that is complex.
+        // Laguerre: d p / (p' +- sqrt((d - 1) ((d - 1) p'^2 - d p p''))), the real part of it when the
+        // square root is imaginary (complex roots nearby): d p p' / (p'^2 - disc).
         const Vec4 disc = dm1 * (dm1 * dp2 - 2.0 * dd * p[j] * hp[j]);
         const Vec4 root = Sqrt(disc > zero ? disc : zero);
         cubic = disc >= zero;
-        step = (cubic ? dd * p[j] : p[j]) / (cubic ? dp[j] + (dp[j] >= zero ? root : -root) : dp[j]);
+        step = (cubic ? dd * p[j] : dd * p[j] * dp[j]) / (cubic ? dp[j] + (dp[j] >= zero ? root : -root) : dp2 - disc);
       } else {
         // Halley: 2 p p' / (2 p'^2 - p p''); Newton where p p'' is too large for it.
         const Vec4 halley_den = dp2 - p[j] * hp[j];
@@ -453,7 +467,7 @@ double SolveBracketed(const double* f, int d, double lo, double hi, int slo) {
   return b.x;
 }
 
-int RealRoots(const double* coeffs, int degree, bool check_extrema, double* roots);
+int RealRoots(const double* coeffs, int degree, int depth, double* roots);
 
 // Real-root search for a polynomial a (degree n >= 3, a[0] != 0, a[n] != 0) whose real roots y
 // satisfy lower < |y| < upper. Writes at most n roots, not sorted, and returns their number.
@@ -467,11 +481,12 @@ class RootFinder {
     for (int k = 0; k < n; ++k) da_[k] = (k + 1) * a[k + 1];
   }
 
-  int Solve(double lower, double upper, bool check_extrema, double* roots) {
+  int Solve(double lower, double upper, int depth, double* roots) {
     roots_ = roots;
     num_roots_ = 0;
     num_brackets_ = 0;
     BuildSturmChain(a_, n_, &chain_);
+    if (chain_.error > kChainMaxError && depth < kMaxFallbackDepth) return SolveByExtrema(upper, depth);
     // Sign changes at 0 and +-infinity from the constant and leading coefficients; no root lies in
     // [0, lower] or beyond upper, so these are the counts at +-lower and +-upper.
     int sign_zero[kMaxN + 1], sign_pinf[kMaxN + 1], sign_minf[kMaxN + 1];
@@ -546,7 +561,6 @@ class RootFinder {
     for (int i = 0; i < num_brackets_; ++i) {
       if (std::abs(values[i]) <= kResidualTol * scales[i] && num_roots_ < n_) roots_[num_roots_++] = brackets_[i].x;
     }
-    if (check_extrema && chain_.min_ratio < kNearMultipleRatio) CheckExtrema();
     return num_roots_;
   }
 
@@ -580,28 +594,42 @@ class RootFinder {
     }
   }
 
-  // The Sturm chain saw near-multiple roots: a double root may have become a close complex pair that
-  // the counts skip. Reports the extrema of p that are roots up to the residual tolerance.
-  void CheckExtrema() {
-    double extrema[kMaxN];
-    const int num = RealRoots(da_, n_ - 1, false, extrema);
-    const int num_found = num_roots_;
-    for (int i = 0; i < num; ++i) {
-      const double x = extrema[i];
-      // Only minima of |p| (p p'' > 0): the maximum of |p| between two close roots is no root.
+  // Isolation without the Sturm chain, for when it is unreliable (near-multiple roots, or roots on
+  // scales far apart, where the remainders lose their precision): the real roots of p' (found
+  // recursively) split (-upper, upper) into pieces where p is monotone, each holding at most one
+  // root, found by the sign of p at the ends. An extremum where |p| has a local minimum small enough
+  // to pass the residual check is reported too: a double root, or a double root that rounding turned
+  // into a close complex pair.
+  int SolveByExtrema(double upper, int depth) {
+    double points[kMaxN + 1];
+    const int num_extrema = RealRoots(da_, n_ - 1, depth + 1, points + 1);
+    int num_points = 1;
+    for (int i = 1; i <= num_extrema; ++i) {
+      if (points[i] > -upper && points[i] < upper) points[num_points++] = points[i];
+    }
+    points[0] = -upper;
+    points[num_points++] = upper;
+    double values[kMaxN + 2], scales[kMaxN + 2];
+    for (int i = 0; i < num_points; ++i) Residual(a_, n_, points[i], &values[i], &scales[i]);
+    for (int i = 0; i + 1 < num_points; ++i) {
+      if (Sign(values[i]) * Sign(values[i + 1]) < 0 && num_brackets_ < kMaxN) {
+        brackets_[num_brackets_++] = {points[i], points[i + 1], Sign(values[i]), 0.0};
+      }
+    }
+    Polish(a_, n_, brackets_, num_brackets_);
+    for (int i = 0; i < num_brackets_; ++i) AddRoot(brackets_[i].x);
+    for (int i = 1; i + 1 < num_points; ++i) {
+      const double x = points[i];
       double p = a_[n_], dp = 0.0, hp = 0.0;
       for (int k = n_ - 1; k >= 0; --k) {
         hp = MulAdd(hp, x, dp);
         dp = MulAdd(dp, x, p);
         p = MulAdd(p, x, a_[k]);
       }
-      if (!(p * hp > 0.0)) continue;
-      bool known = false;
-      for (int j = 0; j < num_found && !known; ++j) {
-        known = std::abs(x - roots_[j]) <= 1e-6 * std::max(std::abs(x), std::abs(roots_[j]));
-      }
-      if (!known) AddRoot(x);
+      // Only minima of |p| (p p'' > 0): the maximum of |p| between two close roots is no root.
+      if (values[i] == 0.0 || p * hp > 0.0) AddRoot(x);
     }
+    return num_roots_;
   }
 
   void AddRoot(double x) {
@@ -625,7 +653,7 @@ class RootFinder {
 };
 
 // Roots of c[0] + ... + c[n] x^n with n >= 1, c[0] != 0, c[n] != 0, all finite. Not sorted.
-int SolveNonzeroEnds(const double* c, int n, bool check_extrema, double* roots) {
+int SolveNonzeroEnds(const double* c, int n, int depth, double* roots) {
   if (n == 1) {
     roots[0] = -c[0] / c[1];
     return std::isfinite(roots[0]) ? 1 : 0;
@@ -663,7 +691,7 @@ int SolveNonzeroEnds(const double* c, int n, bool check_extrema, double* roots) 
   const int upper_exp = std::min(static_cast<int>(std::ceil(upper_log2)) + 2, 1000);
   const int lower_exp = std::min(static_cast<int>(std::ceil(lower_log2)) + 2, 1000);
   RootFinder finder(a, n);
-  const int num = finder.Solve(Pow2(-lower_exp), Pow2(upper_exp), check_extrema, roots);
+  const int num = finder.Solve(Pow2(-lower_exp), Pow2(upper_exp), depth, roots);
   int out = 0;
   for (int i = 0; i < num; ++i) {
     const double x = std::abs(e) <= 1000 ? roots[i] * Pow2(e) : std::ldexp(roots[i], e);
@@ -672,7 +700,7 @@ int SolveNonzeroEnds(const double* c, int n, bool check_extrema, double* roots) 
   return out;
 }
 
-int RealRoots(const double* coeffs, int degree, bool check_extrema, double* roots) {
+int RealRoots(const double* coeffs, int degree, int depth, double* roots) {
   if (degree < 1 || degree > kMaxPolynomialDegree) return 0;
   for (int i = 0; i <= degree; ++i) {
     if (!std::isfinite(coeffs[i])) return 0;
@@ -700,7 +728,7 @@ int RealRoots(const double* coeffs, int degree, bool check_extrema, double* root
     if (big - rest <= kDropLog2) break;
     m = j;
   }
-  int num = m >= 1 ? SolveNonzeroEnds(c, m, check_extrema, roots) : 0;
+  int num = m >= 1 ? SolveNonzeroEnds(c, m, depth, roots) : 0;
   if (low > 0) roots[num++] = 0.0;
   // Ascending order, multiple roots once.
   std::sort(roots, roots + num);
@@ -735,7 +763,7 @@ int SolveQuadraticReal(double a, double b, double c, double roots[2]) {
 }
 
 int SolveRealPolynomialRoots(const double* coeffs, int degree, double* roots) {
-  return RealRoots(coeffs, degree, true, roots);
+  return RealRoots(coeffs, degree, 0, roots);
 }
 
 }  // namespace madsfm

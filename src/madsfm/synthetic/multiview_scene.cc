@@ -68,10 +68,10 @@ class HashStream {
 
 // 2-D gradient noise (Perlin-like) with 16 hashed gradient directions; output in about [-0.7, 0.7], mean 0.
 inline double GradientNoise(uint64_t key, double x, double y) {
-  static const double kGrad[16][2] = {
-      {1.0, 0.0},        {0.9239, 0.3827},   {0.7071, 0.7071},   {0.3827, 0.9239},  {0.0, 1.0},       {-0.3827, 0.9239},
-      {-0.7071, 0.7071}, {-0.9239, 0.3827},  {-1.0, 0.0},        {-0.9239, -0.3827}, {-0.7071, -0.7071},
-      {-0.3827, -0.9239}, {0.0, -1.0},       {0.3827, -0.9239},  {0.7071, -0.7071}, {0.9239, -0.3827}};
+  static const double kGrad[16][2] = {{1.0, 0.0},  {0.9239, 0.3827},   {0.7071, 0.7071},   {0.3827, 0.9239},
+                                      {0.0, 1.0},  {-0.3827, 0.9239},  {-0.7071, 0.7071},  {-0.9239, 0.3827},
+                                      {-1.0, 0.0}, {-0.9239, -0.3827}, {-0.7071, -0.7071}, {-0.3827, -0.9239},
+                                      {0.0, -1.0}, {0.3827, -0.9239},  {0.7071, -0.7071},  {0.9239, -0.3827}};
   const double fx = std::floor(x), fy = std::floor(y);
   const int64_t ix = static_cast<int64_t>(fx), iy = static_cast<int64_t>(fy);
   const double dx = x - fx, dy = y - fy;
@@ -108,12 +108,18 @@ Rgb Hsv(double h, double s, double v) {
   h = h - std::floor(h);
   const double c = v * s, hp = h * 6.0, x = c * (1.0 - std::abs(std::fmod(hp, 2.0) - 1.0)), m = v - c;
   Rgb out;
-  if (hp < 1) out = {c, x, 0};
-  else if (hp < 2) out = {x, c, 0};
-  else if (hp < 3) out = {0, c, x};
-  else if (hp < 4) out = {0, x, c};
-  else if (hp < 5) out = {x, 0, c};
-  else out = {c, 0, x};
+  if (hp < 1)
+    out = {c, x, 0};
+  else if (hp < 2)
+    out = {x, c, 0};
+  else if (hp < 3)
+    out = {0, c, x};
+  else if (hp < 4)
+    out = {0, x, c};
+  else if (hp < 5)
+    out = {x, 0, c};
+  else
+    out = {c, 0, x};
   return {out.r + m, out.g + m, out.b + m};
 }
 
@@ -126,8 +132,8 @@ Rgb RandomColor(R& rng, double v_lo, double v_hi) {
 // Texture style of one planar surface (all lengths in metres).
 struct SurfaceStyle {
   uint64_t key = 0;
-  Rgb c0, c1, c2;                  // noise palette (c0/c1 differ in brightness), c2 = large-scale tint
-  double noise_wavelength = 1.0;   // longest octave
+  Rgb c0, c1, c2;                 // noise palette (c0/c1 differ in brightness), c2 = large-scale tint
+  double noise_wavelength = 1.0;  // longest octave
   double blob_cell = 0.3, blob_prob = 0.6;
   double glyph_cell = 0.1, glyph_prob = 0.3;
   double stripe_prob = 0.1;
@@ -271,10 +277,12 @@ Rgb EvaluateTexture(const SurfaceStyle& st, double u, double v, double fw) {
   Rgb glyph_color;
   double cov = GlyphCoverage(st.key ^ 0x6116, u, v, st.glyph_cell, st.glyph_prob, fw, &glyph_color, base_luma);
   if (cov > 0.0) color = Lerp(color, glyph_color, cov);
-  cov = GlyphCoverage(st.key ^ 0x6117, u, v, 2.7 * st.glyph_cell, 0.5 * st.glyph_prob, fw, &glyph_color,
-                      base_luma);
+  cov = GlyphCoverage(st.key ^ 0x6117, u, v, 2.7 * st.glyph_cell, 0.5 * st.glyph_prob, fw, &glyph_color, base_luma);
   if (cov > 0.0) color = Lerp(color, glyph_color, cov);
-  return color;
+
+  // 5. Fine multiplicative grain over everything, so that blobs and glyphs are not flat either.
+  const double grain = 1.0 + 1.3 * FractalNoise(st.key ^ 0xDE7A11, u, v, 0.2 * st.noise_wavelength, 5, 0.8, filter);
+  return {color.r * grain, color.g * grain, color.b * grain};
 }
 
 // ------------------------------------------------------------------------------------------------------------------
@@ -296,8 +304,8 @@ Eigen::Vector3d ToWorld(const Box& b, const Eigen::Vector3d& v) {
 }
 
 // Slab test in a box's frame: entry/exit parameters and faces; false if the ray line misses the box.
-bool IntersectSlabs(const Box& box, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double* t_near,
-                    int* f_near, double* t_far, int* f_far) {
+bool IntersectSlabs(const Box& box, const Eigen::Vector3d& o, const Eigen::Vector3d& d, double* t_near, int* f_near,
+                    double* t_far, int* f_far) {
   const Eigen::Vector3d lo = ToLocal(box, o - box.center), ld = ToLocal(box, d);
   double tn = -kInf, tf = kInf;
   int fn = -1, ff = -1;
@@ -382,7 +390,7 @@ void SurfaceAt(const Scene& s, const Hit& hit, const Eigen::Vector3d& X, int* su
   const int k = hit.face / 2;
   Eigen::Vector3d n_local = Eigen::Vector3d::Zero();
   n_local[k] = (hit.face % 2 == 1) ? 1.0 : -1.0;  // outward
-  if (hit.box == -1) n_local = -n_local;           // the room is seen from inside
+  if (hit.box == -1) n_local = -n_local;          // the room is seen from inside
   *normal = ToWorld(b, n_local);
   *u = l[(k + 1) % 3], *v = l[(k + 2) % 3];
   *surface = b.first_surface + hit.face;
@@ -400,8 +408,8 @@ bool FootprintFree(const Scene& s, const Eigen::Vector2d& c, double r, double ma
 // ------------------------------------------------------------------------------------------------------------------
 // Cameras.
 
-MultiViewCamera LookAt(const Eigen::Vector3d& C, const Eigen::Vector3d& target, double roll, double focal,
-                       int width, int height) {
+MultiViewCamera LookAt(const Eigen::Vector3d& C, const Eigen::Vector3d& target, double roll, double focal, int width,
+                       int height) {
   const Eigen::Vector3d f = (target - C).normalized();
   Eigen::Vector3d r = f.cross(Eigen::Vector3d::UnitZ());
   if (r.norm() < 1e-6) r = Eigen::Vector3d::UnitX();
@@ -473,8 +481,8 @@ void BuildRoom(Rng& rng, int num_images, double focal, int width, int height, Sc
   for (int attempts = 0; attempts < 50; ++attempts) {
     const Eigen::Vector2d c(rng.Uniform(-hx + 1.0, hx - 1.0), rng.Uniform(0.0, y_far - 1.0));
     if (!FootprintFree(*s, c, 0.25, 0.2)) continue;
-    s->boxes.push_back(MakeBox(s, Eigen::Vector3d(c.x(), c.y(), 0.5 * h), Eigen::Vector3d(0.3, 0.3, h),
-                               rng.Uniform(0.0, kPi)));
+    s->boxes.push_back(
+        MakeBox(s, Eigen::Vector3d(c.x(), c.y(), 0.5 * h), Eigen::Vector3d(0.3, 0.3, h), rng.Uniform(0.0, kPi)));
     break;
   }
   // Cameras on an arc of 60 degrees around the target, near the near wall, all looking at it.
@@ -484,8 +492,8 @@ void BuildRoom(Rng& rng, int num_images, double focal, int width, int height, Sc
     const double phi = DegToRad(-30.0 + 60.0 * i / (num_images - 1) + rng.Uniform(-1.0, 1.0));
     const Eigen::Vector3d C(target.x() + radius * std::sin(phi), target.y() - radius * std::cos(phi),
                             rng.Uniform(1.35, 1.75));
-    const Eigen::Vector3d aim = target + Eigen::Vector3d(rng.Uniform(-0.15, 0.15), rng.Uniform(-0.15, 0.15),
-                                                         rng.Uniform(-0.15, 0.15));
+    const Eigen::Vector3d aim =
+        target + Eigen::Vector3d(rng.Uniform(-0.15, 0.15), rng.Uniform(-0.15, 0.15), rng.Uniform(-0.15, 0.15));
     cameras->push_back(LookAt(C, aim, DegToRad(rng.Uniform(-3.0, 3.0)), focal, width, height));
   }
 }
@@ -507,8 +515,8 @@ void BuildStreet(Rng& rng, int num_images, double focal, int width, int height, 
   }
   // The building closing the street far ahead.
   const double end_x = rng.Uniform(55.0, 65.0), end_h = rng.Uniform(15.0, 25.0);
-  s->boxes.push_back(MakeBox(s, Eigen::Vector3d(end_x + 5.0, 0.0, 0.5 * end_h), Eigen::Vector3d(10.0, 40.0, end_h),
-                             0.0));
+  s->boxes.push_back(
+      MakeBox(s, Eigen::Vector3d(end_x + 5.0, 0.0, 0.5 * end_h), Eigen::Vector3d(10.0, 40.0, end_h), 0.0));
   // Parked cars (a body and a cabin) along both kerbs.
   const int num_cars = rng.UniformInt(4, 7);
   for (int i = 0, attempts = 0; i < num_cars && attempts < 200; ++attempts) {
@@ -632,8 +640,7 @@ struct MultiViewScene::Impl {
     const double cos_incidence = std::max(0.1, std::abs(n.dot(d)) / dn);
     const double fw = fw_per_depth * hit.t * dn / cos_incidence;
     const Rgb albedo = EvaluateTexture(scene.styles[surface], u, v, fw);
-    const double shade =
-        0.38 + 0.5 * std::max(0.0, n.dot(scene.light0)) + 0.17 * std::max(0.0, n.dot(scene.light1));
+    const double shade = 0.38 + 0.5 * std::max(0.0, n.dot(scene.light0)) + 0.17 * std::max(0.0, n.dot(scene.light1));
     return {albedo.r * shade, albedo.g * shade, albedo.b * shade};
   }
 };
@@ -710,8 +717,7 @@ MultiViewImage MultiViewScene::Render(int image) const {
       double depth;
       for (int sy = 0; sy < S; ++sy) {
         for (int sx = 0; sx < S; ++sx) {
-          const Rgb c = impl_->Shade(C, cam.RayDirection(x + (sx + 0.5) / S, y + (sy + 0.5) / S), fw_per_depth,
-                                     &depth);
+          const Rgb c = impl_->Shade(C, cam.RayDirection(x + (sx + 0.5) / S, y + (sy + 0.5) / S), fw_per_depth, &depth);
           sum.r += c.r, sum.g += c.g, sum.b += c.b;
         }
       }
@@ -729,7 +735,8 @@ MultiViewImage MultiViewScene::Render(int image) const {
   const int h = std::max(1, static_cast<int>(std::lround(H * o.depth_map_scale)));
   std::vector<double> z(static_cast<size_t>(w) * h);
   ParallelRows(h, num_threads, [&](int v) {
-    for (int u = 0; u < w; ++u) z[static_cast<size_t>(v) * w + u] = DepthAt(image, (u + 0.5) * W / w, (v + 0.5) * H / h);
+    for (int u = 0; u < w; ++u)
+      z[static_cast<size_t>(v) * w + u] = DepthAt(image, (u + 0.5) * W / w, (v + 0.5) * H / h);
   });
   std::vector<double> valid;
   double max_depth = 0.0;
@@ -753,10 +760,9 @@ MultiViewImage MultiViewScene::Render(int image) const {
     for (int u = 0; u < w; ++u) {
       const size_t i = static_cast<size_t>(v) * w + u;
       const double xn = ((u + 0.5) * W / w - cam.cx) / (0.5 * W), yn = ((v + 0.5) * H / h - cam.cy) / (0.5 * W);
-      const double delta = coeff[0] * xn + coeff[1] * yn + coeff[2] * xn * yn + coeff[3] * xn * xn +
-                           coeff[4] * yn * yn +
-                           sin_amp * std::sin(sin_freq * (std::cos(sin_angle) * xn + std::sin(sin_angle) * yn) +
-                                              sin_phase);
+      const double delta =
+          coeff[0] * xn + coeff[1] * yn + coeff[2] * xn * yn + coeff[3] * xn * xn + coeff[4] * yn * yn +
+          sin_amp * std::sin(sin_freq * (std::cos(sin_angle) * xn + std::sin(sin_angle) * yn) + sin_phase);
       const double zz = z[i] > 0.0 ? z[i] : sky_depth;
       const double r = zz / median;
       zd[i] = zz * (1.0 + delta) * (1.0 + 2.0 * gamma * (r - 1.0) / (r + 1.0));

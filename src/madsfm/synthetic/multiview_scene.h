@@ -18,10 +18,11 @@
 //
 // Textures: every planar face (each wall, box face, facade, the floor, the ground) gets its own palette and a
 // sum of layers evaluated analytically in face coordinates (metres): multi-octave gradient noise, random
-// elliptic blobs, letter-like glyphs made of strokes and rare small stripe patches, all placed by hashing cells
-// (no repetition). Each layer is pre-filtered with the footprint of the pixel on the surface (octaves and strokes
-// finer than the footprint fade to their mean), and every pixel averages supersampling^2 rays, so there is no
-// aliasing. Shading is Lambertian with a fixed light (view-independent, consistent across images).
+// elliptic blobs, letter-like glyphs made of strokes, rare small stripe patches and a fine multiplicative grain
+// over everything, all placed by hashing cells (no repetition). Each layer is pre-filtered with the footprint of
+// the pixel on the surface (octaves and strokes finer than the footprint fade to their mean), and every pixel
+// averages supersampling^2 rays, so there is no aliasing. Shading is Lambertian with a fixed light (view-independent,
+// consistent across images).
 //
 // Conventions.
 //  * Pixel coordinates follow COLMAP: the upper-left pixel's centre is at (0.5, 0.5); the image spans [0, W] x
@@ -99,14 +100,14 @@ struct MultiViewCamera {
 struct MultiViewImage {
   std::string name;  // "img_000.png", ...
   MultiViewCamera camera;
-  std::vector<uint8_t> rgb;  // width * height * 3, row-major, interleaved R, G, B
-  DepthMap depth;            // exact z-depth at full resolution (0 = sky)
-  DepthMap prior;            // the prior (see the file comment), prior resolution
-  DepthMap prior_true_depth;     // exact z-depth at the prior pixels (0 = sky)
-  DepthMap prior_undistorted;    // (z - b) / a at the prior pixels: the prior without the non-affine distortion
-  double prior_scale = 1.0;      // a: z' = a d + b
-  double prior_shift = 0.0;      // b
-  double median_depth = 0.0;     // median of the valid prior_true_depth pixels
+  std::vector<uint8_t> rgb;    // width * height * 3, row-major, interleaved R, G, B
+  DepthMap depth;              // exact z-depth at full resolution (0 = sky)
+  DepthMap prior;              // the prior (see the file comment), prior resolution
+  DepthMap prior_true_depth;   // exact z-depth at the prior pixels (0 = sky)
+  DepthMap prior_undistorted;  // (z - b) / a at the prior pixels: the prior without the non-affine distortion
+  double prior_scale = 1.0;    // a: z' = a d + b
+  double prior_shift = 0.0;    // b
+  double median_depth = 0.0;   // median of the valid prior_true_depth pixels
 };
 
 class MultiViewScene {
@@ -120,7 +121,7 @@ class MultiViewScene {
   const MultiViewSceneOptions& options() const;
   int NumImages() const;
   const MultiViewCamera& Camera(int image) const;
-  double Focal() const;  // shared focal length (pixels)
+  double Focal() const;                     // shared focal length (pixels)
   static std::string ImageName(int image);  // "img_000.png"
 
   // First surface hit along origin + s * direction (s > 0); false if none (sky). *s in units of |direction|.
@@ -128,7 +129,8 @@ class MultiViewScene {
   // Exact z-depth of the ray of camera `image` through image point (x, y) (COLMAP coordinates); 0 if none.
   double DepthAt(int image, double x, double y) const;
 
-  // Renders one image with its depth map and prior (~1 s at 640 x 480 with 2 x 2 supersampling on 2 cores).
+  // Renders one image with its depth map and prior (about 2 s of CPU at 640 x 480 with 2 x 2 supersampling;
+  // rows are split over options().num_threads threads).
   MultiViewImage Render(int image) const;
 
  private:

@@ -1,0 +1,742 @@
+#include "colmap_ext/database/database.h"
+
+#include <sqlite3.h>
+#include <sys/stat.h>
+
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <stdexcept>
+#include <utility>
+
+namespace madsfm::colmap {
+namespace {
+
+constexpr uint64_t kMaxNumImages = 2147483647;
+
+// madsfm's own tables (COLMAP's tables are never created, altered or dropped).
+constexpr const char* kBackupTwoViewTable = "madsfm_backup_two_view_geometries";
+constexpr const char* kBackupCamerasTable = "madsfm_backup_cameras";
+constexpr const char* kMadsfmPairsTable = "madsfm_two_view_geometries";
+constexpr const char* kCreatedMatchesTable = "madsfm_created_matches";
+constexpr const char* kWrittenPairsTable = "madsfm_written_two_view_geometries";
+
+constexpr const char* kTwoViewColumns = "pair_id, rows, cols, data, config, F, E, H, qvec, tvec";
+constexpr const char* kCameraColumns = "camera_id, model, width, height, params, prior_focal_length";
+
+[[noreturn]] void ThrowSqlite(const std::string& path, sqlite3* db, const std::string& what) {
+  std::string message = "'" + path + "': " + what;
+  if (db != nullptr) message += ": " + std::string(sqlite3_errmsg(db));
+  throw std::runtime_error(message);
+}
+
+// RAII prepared statement bound to one database; every error becomes a std::runtime_error naming the file.
+class Statement {
+ public:
+  Statement(sqlite3* db, const std::string& path, const std::string& sql) : db_(db), path_(path), sql_(sql) {
+    if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &stmt_, nullptr) != SQLITE_OK) {
+      ThrowSqlite(path_, db_, "cannot prepare \"" + sql_ + "\"");
+    }
+  }
+  ~Statement() { sqlite3_finalize(stmt_); }
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
+
+  void BindInt64(int i, int64_t value) { Check(sqlite3_bind_int64(stmt_, i, value), "bind"); }
+  void BindDouble(int i, double value) { Check(sqlite3_bind_double(stmt_, i, value), "bind"); }
+  void BindNull(int i) { Check(sqlite3_bind_null(stmt_, i), "bind"); }
+  void BindText(int i, const std::string& text) {
+    Check(sqlite3_bind_text(stmt_, i, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT), "bind");
+  }
+  // An empty blob is bound as a zero-length blob (not NULL).
+  void BindBlob(int i, const void* data, size_t num_bytes) {
+    if (num_bytes == 0) {
+      Check(sqlite3_bind_zeroblob(stmt_, i, 0), "bind");
+    } else {
+      Check(sqlite3_bind_blob64(stmt_, i, data, num_bytes, SQLITE_TRANSIENT), "bind");
+    }
+  }
+
+  // Returns true while there is a row.
+  bool Step() {
+    const int rc = sqlite3_step(stmt_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    ThrowSqlite(path_, db_, "\"" + sql_ + "\" failed");
+  }
+  void Run() {
+    while (Step()) {
+    }
+  }
+
+  bool IsNull(int col) const { return sqlite3_column_type(stmt_, col) == SQLITE_NULL; }
+  int64_t Int64(int col) const { return sqlite3_column_int64(stmt_, col); }
+  // NULL reads as NaN (SQLite stores NaN as NULL).
+  double Double(int col) const {
+    return IsNull(col) ? std::numeric_limits<double>::quiet_NaN() : sqlite3_column_double(stmt_, col);
+  }
+  std::string Text(int col) const {
+    const unsigned char* text = sqlite3_column_text(stmt_, col);
+    const int n = sqlite3_column_bytes(stmt_, col);
+    return text == nullptr ? std::string() : std::string(reinterpret_cast<const char*>(text), n);
+  }
+  // Pointer and size of a blob column (nullptr / 0 for NULL or empty blobs).
+  const void* Blob(int col, size_t* num_bytes) const {
+    const void* data = sqlite3_column_blob(stmt_, col);
+    *num_bytes = static_cast<size_t>(sqlite3_column_bytes(stmt_, col));
+    return data;
+  }
+
+ private:
+  void Check(int rc, const char* what) {
+    if (rc != SQLITE_OK) ThrowSqlite(path_, db_, std::string(what) + " in \"" + sql_ + "\"");
+  }
+  sqlite3* db_;
+  const std::string& path_;
+  std::string sql_;
+  sqlite3_stmt* stmt_ = nullptr;
+};
+
+void Exec(sqlite3* db, const std::string& path, const std::string& sql) {
+  char* error = nullptr;
+  if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
+    const std::string message = error != nullptr ? error : sqlite3_errmsg(db);
+    sqlite3_free(error);
+    throw std::runtime_error("'" + path + "': \"" + sql + "\" failed: " + message);
+  }
+}
+
+// Makes one write operation atomic: BEGIN IMMEDIATE ... COMMIT when no transaction is open, otherwise a savepoint
+// inside the caller's transaction (so a failed operation leaves the caller's earlier writes intact). Rolls back on
+// destruction unless committed; never throws from the destructor.
+class ScopedTransaction {
+ public:
+  ScopedTransaction(sqlite3* db, const std::string& path) : db_(db), path_(path) {
+    savepoint_ = sqlite3_get_autocommit(db_) == 0;
+    Exec(db_, path_, savepoint_ ? "SAVEPOINT madsfm_write" : "BEGIN IMMEDIATE");
+    open_ = true;
+  }
+  ~ScopedTransaction() {
+    if (!open_) return;
+    if (savepoint_) {
+      sqlite3_exec(db_, "ROLLBACK TO madsfm_write", nullptr, nullptr, nullptr);
+      sqlite3_exec(db_, "RELEASE madsfm_write", nullptr, nullptr, nullptr);
+    } else {
+      sqlite3_exec(db_, "ROLLBACK", nullptr, nullptr, nullptr);
+    }
+  }
+  void Commit() {
+    Exec(db_, path_, savepoint_ ? "RELEASE madsfm_write" : "COMMIT");
+    open_ = false;
+  }
+
+ private:
+  sqlite3* db_;
+  const std::string& path_;
+  bool savepoint_ = false;
+  bool open_ = false;
+};
+
+bool TableExists(sqlite3* db, const std::string& path, const std::string& table) {
+  Statement stmt(db, path, "SELECT 1 FROM sqlite_master WHERE type='table' AND name=?");
+  stmt.BindText(1, table);
+  return stmt.Step();
+}
+
+std::set<std::string> TableColumns(sqlite3* db, const std::string& path, const std::string& table) {
+  std::set<std::string> columns;
+  Statement stmt(db, path, "PRAGMA table_info(\"" + table + "\")");
+  while (stmt.Step()) columns.insert(stmt.Text(1));
+  return columns;
+}
+
+// Row-major float64 3x3 blob <-> Eigen.
+std::array<double, 9> RowMajor(const Eigen::Matrix3d& m) {
+  std::array<double, 9> out;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out[3 * r + c] = m(r, c);
+  return out;
+}
+
+bool AllZero(const double* v, int n) {
+  for (int i = 0; i < n; ++i)
+    if (v[i] != 0.0) return false;
+  return true;
+}
+
+// Reads a float64 blob of exactly n values; NULL / empty -> false; other sizes -> error.
+bool ReadDoubles(const Statement& stmt, int col, int n, double* out, const std::string& path,
+                 const std::string& what) {
+  size_t num_bytes = 0;
+  const void* data = stmt.Blob(col, &num_bytes);
+  if (num_bytes == 0) return false;
+  if (num_bytes != n * sizeof(double)) {
+    throw std::runtime_error("'" + path + "': " + what + " has " + std::to_string(num_bytes) + " bytes, expected " +
+                             std::to_string(n * sizeof(double)) + " (" + std::to_string(n) + " float64)");
+  }
+  std::memcpy(out, data, num_bytes);
+  return true;
+}
+
+// rows x 2 uint32 matches blob (columns rows, cols, data at col0, col0+1, col0+2).
+std::vector<std::array<uint32_t, 2>> ReadMatchesBlob(const Statement& stmt, int col0, const std::string& path,
+                                                     const std::string& what) {
+  const int64_t rows = stmt.Int64(col0);
+  const int64_t cols = stmt.Int64(col0 + 1);
+  size_t num_bytes = 0;
+  const void* data = stmt.Blob(col0 + 2, &num_bytes);
+  std::vector<std::array<uint32_t, 2>> matches;
+  if (rows < 0) throw std::runtime_error("'" + path + "': " + what + " has rows = " + std::to_string(rows));
+  if (rows == 0) {
+    if (num_bytes != 0) {
+      throw std::runtime_error("'" + path + "': " + what + " has rows = 0 but a blob of " +
+                               std::to_string(num_bytes) + " bytes");
+    }
+    return matches;
+  }
+  if (cols != 2) {
+    throw std::runtime_error("'" + path + "': " + what + " has cols = " + std::to_string(cols) + ", expected 2");
+  }
+  const size_t expected = static_cast<size_t>(rows) * 2 * sizeof(uint32_t);
+  if (num_bytes != expected) {
+    throw std::runtime_error("'" + path + "': " + what + " blob has " + std::to_string(num_bytes) +
+                             " bytes, expected " + std::to_string(expected) + " (" + std::to_string(rows) +
+                             " x 2 uint32)");
+  }
+  matches.resize(static_cast<size_t>(rows));
+  std::memcpy(matches.data(), data, expected);
+  return matches;
+}
+
+std::string PairName(pair_t pair_id) {
+  image_t id1, id2;
+  PairIdToImagePair(pair_id, &id1, &id2);
+  return "pair " + std::to_string(pair_id) + " (images " + std::to_string(id1) + ", " + std::to_string(id2) + ")";
+}
+
+void BindMatchesBlob(Statement* stmt, int i, const std::vector<std::array<uint32_t, 2>>& matches) {
+  stmt->BindBlob(i, matches.data(), matches.size() * sizeof(matches[0]));
+}
+
+std::string CreateTwoViewTableSql(const std::string& name) {
+  return "CREATE TABLE IF NOT EXISTS " + name +
+         " (pair_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL, data BLOB, "
+         "config INTEGER NOT NULL, F BLOB, E BLOB, H BLOB, qvec BLOB, tvec BLOB)";
+}
+
+}  // namespace
+
+pair_t ImagePairToPairId(image_t id1, image_t id2) {
+  if (id1 > id2) std::swap(id1, id2);
+  return kMaxNumImages * static_cast<uint64_t>(id1) + static_cast<uint64_t>(id2);
+}
+
+void PairIdToImagePair(pair_t pair_id, image_t* id1, image_t* id2) {
+  *id2 = static_cast<image_t>(pair_id % kMaxNumImages);
+  *id1 = static_cast<image_t>((pair_id - *id2) / kMaxNumImages);
+}
+
+std::string SchemaVersionName(SchemaVersion v) {
+  switch (v) {
+    case SchemaVersion::kColmap38:
+      return "COLMAP 3.8/3.9";
+    case SchemaVersion::kColmap310:
+      return "COLMAP 3.10/3.11";
+    case SchemaVersion::kColmap312:
+      return "COLMAP 3.12/3.13";
+    case SchemaVersion::kColmap4:
+      return "COLMAP 4.x";
+  }
+  return "unknown";
+}
+
+std::unique_ptr<Database> Database::Open(const std::string& path, bool read_only, int busy_timeout_ms) {
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0) {
+    throw std::runtime_error("'" + path + "' does not exist (COLMAP database expected)");
+  }
+  if (!S_ISREG(st.st_mode)) throw std::runtime_error("'" + path + "' is not a regular file (COLMAP database expected)");
+  {
+    // Every SQLite 3 file starts with this 16-byte header (an empty file is rejected too: it holds no tables).
+    char header[16] = {0};
+    std::ifstream file(path, std::ios::binary);
+    if (!file) throw std::runtime_error("'" + path + "' cannot be read");
+    file.read(header, sizeof(header));
+    if (file.gcount() != static_cast<std::streamsize>(sizeof(header)) ||
+        std::memcmp(header, "SQLite format 3", 16) != 0) {
+      throw std::runtime_error("'" + path + "' is not a SQLite database");
+    }
+  }
+  if (!read_only && (st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0) {
+    // Respected even for root, who could write anyway: a database made read-only is meant to stay untouched.
+    throw std::runtime_error("'" + path + "' is a read-only file and cannot be opened for writing");
+  }
+
+  std::unique_ptr<Database> database(new Database());
+  database->path_ = path;
+  // Serialized threading mode: several threads may read through one Database (each call prepares its own
+  // statements). Writes belong to one thread.
+  const int flags = (read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE) | SQLITE_OPEN_FULLMUTEX;
+  if (sqlite3_open_v2(path.c_str(), &database->db_, flags, nullptr) != SQLITE_OK) {
+    ThrowSqlite(path, database->db_, "cannot open");
+  }
+  sqlite3_extended_result_codes(database->db_, 1);
+  if (!read_only && sqlite3_db_readonly(database->db_, "main") == 1) {
+    throw std::runtime_error("'" + path + "' cannot be opened for writing (read-only file or directory)");
+  }
+  sqlite3_busy_timeout(database->db_, busy_timeout_ms);
+
+  // Schema detection from tables and columns (see colmap.md).
+  std::set<std::string> tables;
+  {
+    sqlite3_stmt* stmt = nullptr;
+    if (sqlite3_prepare_v2(database->db_, "SELECT name FROM sqlite_master WHERE type='table'", -1, &stmt, nullptr) !=
+        SQLITE_OK) {
+      const int code = sqlite3_errcode(database->db_) & 0xff;
+      if (code == SQLITE_NOTADB) throw std::runtime_error("'" + path + "' is not a SQLite database");
+      ThrowSqlite(path, database->db_, "cannot read the schema");
+    }
+    int rc;
+    while ((rc = sqlite3_step(stmt)) == SQLITE_ROW) {
+      tables.insert(reinterpret_cast<const char*>(sqlite3_column_text(stmt, 0)));
+    }
+    sqlite3_finalize(stmt);
+    if (rc != SQLITE_DONE) ThrowSqlite(path, database->db_, "cannot read the schema");
+  }
+  std::string missing;
+  for (const char* required : {"cameras", "images", "keypoints", "matches", "two_view_geometries"}) {
+    if (tables.count(required) == 0) missing += std::string(missing.empty() ? "" : ", ") + required;
+  }
+  if (!missing.empty()) {
+    throw std::runtime_error("'" + path + "' has an unknown schema (not a COLMAP database): missing table(s) " +
+                             missing);
+  }
+  sqlite3* db = database->db_;
+  const bool descriptors_type =
+      tables.count("descriptors") != 0 && TableColumns(db, path, "descriptors").count("type") != 0;
+  std::set<std::string> pose_prior_columns;
+  if (tables.count("pose_priors") != 0) pose_prior_columns = TableColumns(db, path, "pose_priors");
+  if (descriptors_type || pose_prior_columns.count("corr_data_id") != 0) {
+    database->schema_ = SchemaVersion::kColmap4;
+  } else if (tables.count("rigs") != 0 || tables.count("frames") != 0) {
+    database->schema_ = SchemaVersion::kColmap312;
+  } else if (pose_prior_columns.count("image_id") != 0) {
+    // 3.10/3.11 (databases migrated from 3.8 keep their images.prior_* columns).
+    database->schema_ = SchemaVersion::kColmap310;
+  } else if (TableColumns(db, path, "images").count("prior_qw") != 0) {
+    database->schema_ = SchemaVersion::kColmap38;
+  } else {
+    // No prior columns anywhere (e.g. a hand-made database): the columns madsfm uses are the same as 3.10's.
+    database->schema_ = SchemaVersion::kColmap310;
+  }
+  return database;
+}
+
+Database::~Database() {
+  if (db_ != nullptr) sqlite3_close_v2(db_);
+}
+
+std::vector<Camera> Database::ReadCameras() const {
+  std::vector<Camera> cameras;
+  Statement stmt(db_, path_, std::string("SELECT ") + kCameraColumns + " FROM cameras ORDER BY camera_id");
+  while (stmt.Step()) {
+    Camera camera;
+    camera.camera_id = static_cast<camera_t>(stmt.Int64(0));
+    camera.intrinsics.model_id = static_cast<int>(stmt.Int64(1));
+    camera.intrinsics.width = static_cast<int>(stmt.Int64(2));
+    camera.intrinsics.height = static_cast<int>(stmt.Int64(3));
+    size_t num_bytes = 0;
+    const void* data = stmt.Blob(4, &num_bytes);
+    const std::string what = "camera_id " + std::to_string(camera.camera_id);
+    if (num_bytes % sizeof(double) != 0) {
+      throw std::runtime_error("'" + path_ + "': params of " + what + " have " + std::to_string(num_bytes) +
+                               " bytes, not a whole number of float64");
+    }
+    const int num_params = CameraModelNumParams(camera.intrinsics.model_id);
+    if (num_params >= 0 && num_bytes != num_params * sizeof(double)) {
+      throw std::runtime_error("'" + path_ + "': params of " + what + " have " +
+                               std::to_string(num_bytes / sizeof(double)) + " values, camera model " +
+                               CameraModelName(camera.intrinsics.model_id) + " needs " + std::to_string(num_params));
+    }
+    camera.intrinsics.params.resize(num_bytes / sizeof(double));
+    if (num_bytes > 0) std::memcpy(camera.intrinsics.params.data(), data, num_bytes);
+    camera.prior_focal_length = stmt.Int64(5) != 0;
+    cameras.push_back(std::move(camera));
+  }
+  return cameras;
+}
+
+std::vector<Image> Database::ReadImages() const {
+  std::vector<Image> images;
+  Statement stmt(db_, path_, "SELECT image_id, name, camera_id FROM images ORDER BY image_id");
+  while (stmt.Step()) {
+    Image image;
+    image.image_id = static_cast<image_t>(stmt.Int64(0));
+    image.name = stmt.Text(1);
+    image.camera_id = static_cast<camera_t>(stmt.Int64(2));
+    images.push_back(std::move(image));
+  }
+  return images;
+}
+
+std::vector<Eigen::Vector2d> Database::ReadKeypoints(image_t image_id) const {
+  std::vector<Eigen::Vector2d> keypoints;
+  Statement stmt(db_, path_, "SELECT rows, cols, data FROM keypoints WHERE image_id = ?");
+  stmt.BindInt64(1, image_id);
+  if (!stmt.Step()) return keypoints;  // no keypoints row: no keypoints
+  const std::string what = "keypoints of image_id " + std::to_string(image_id);
+  const int64_t rows = stmt.Int64(0);
+  const int64_t cols = stmt.Int64(1);
+  size_t num_bytes = 0;
+  const void* data = stmt.Blob(2, &num_bytes);
+  if (rows < 0) throw std::runtime_error("'" + path_ + "': " + what + ": rows = " + std::to_string(rows));
+  if (rows == 0) return keypoints;
+  if (cols != 2 && cols != 4 && cols != 6) {
+    throw std::runtime_error("'" + path_ + "': " + what + ": cols = " + std::to_string(cols) +
+                             ", expected 2, 4 or 6");
+  }
+  const size_t expected = static_cast<size_t>(rows) * static_cast<size_t>(cols) * sizeof(float);
+  if (num_bytes != expected) {
+    throw std::runtime_error("'" + path_ + "': " + what + ": blob has " + std::to_string(num_bytes) +
+                             " bytes, expected " + std::to_string(expected) + " (" + std::to_string(rows) + " x " +
+                             std::to_string(cols) + " float32)");
+  }
+  keypoints.resize(static_cast<size_t>(rows));
+  const unsigned char* bytes = static_cast<const unsigned char*>(data);
+  for (int64_t i = 0; i < rows; ++i) {
+    float xy[2];
+    std::memcpy(xy, bytes + static_cast<size_t>(i * cols) * sizeof(float), sizeof(xy));
+    keypoints[static_cast<size_t>(i)] = Eigen::Vector2d(xy[0], xy[1]);
+  }
+  return keypoints;
+}
+
+std::vector<std::pair<pair_t, int>> Database::ReadMatchedPairs() const {
+  std::vector<std::pair<pair_t, int>> pairs;
+  Statement stmt(db_, path_, "SELECT pair_id, rows FROM matches WHERE rows > 0 ORDER BY pair_id");
+  while (stmt.Step()) pairs.emplace_back(static_cast<pair_t>(stmt.Int64(0)), static_cast<int>(stmt.Int64(1)));
+  return pairs;
+}
+
+std::vector<std::array<uint32_t, 2>> Database::ReadMatches(pair_t pair_id) const {
+  Statement stmt(db_, path_, "SELECT rows, cols, data FROM matches WHERE pair_id = ?");
+  stmt.BindInt64(1, static_cast<int64_t>(pair_id));
+  if (!stmt.Step()) return {};
+  return ReadMatchesBlob(stmt, 0, path_, "matches of " + PairName(pair_id));
+}
+
+std::optional<TwoViewGeometryRow> Database::ReadTwoViewGeometry(pair_t pair_id) const {
+  Statement stmt(db_, path_, std::string("SELECT ") + kTwoViewColumns + " FROM two_view_geometries WHERE pair_id = ?");
+  stmt.BindInt64(1, static_cast<int64_t>(pair_id));
+  if (!stmt.Step()) return std::nullopt;
+  const std::string what = "two_view_geometries row of " + PairName(pair_id);
+  TwoViewGeometryRow row;
+  row.pair_id = pair_id;
+  row.inlier_matches = ReadMatchesBlob(stmt, 1, path_, what);
+  row.config = static_cast<int>(stmt.Int64(4));
+  const char* names[3] = {"F", "E", "H"};
+  std::optional<Eigen::Matrix3d>* targets[3] = {&row.F, &row.E, &row.H};
+  for (int k = 0; k < 3; ++k) {
+    double v[9];
+    if (ReadDoubles(stmt, 5 + k, 9, v, path_, what + " column " + names[k]) && !AllZero(v, 9)) {
+      Eigen::Matrix3d m;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) m(r, c) = v[3 * r + c];
+      *targets[k] = m;
+    }
+  }
+  double q[4], t[3];
+  const bool has_q = ReadDoubles(stmt, 8, 4, q, path_, what + " column qvec");
+  const bool has_t = ReadDoubles(stmt, 9, 3, t, path_, what + " column tvec");
+  // COLMAP < 4 writes an identity / all-zero pose when none was estimated; like 4.x's migration, read it as absent.
+  const bool identity = has_q && q[0] == 1 && q[1] == 0 && q[2] == 0 && q[3] == 0 && has_t && AllZero(t, 3);
+  if (has_q && has_t && !AllZero(q, 4) && !identity) {
+    row.qvec = Eigen::Vector4d(q[0], q[1], q[2], q[3]);
+    row.tvec = Eigen::Vector3d(t[0], t[1], t[2]);
+  }
+  return row;
+}
+
+Database::Transaction::Transaction(Database* db) : db_(db) { Exec(db_->db_, db_->path_, "BEGIN IMMEDIATE"); }
+
+Database::Transaction::~Transaction() {
+  if (!done_) sqlite3_exec(db_->db_, "ROLLBACK", nullptr, nullptr, nullptr);  // errors ignored: never throw here
+}
+
+void Database::Transaction::Commit() {
+  if (done_) throw std::logic_error("'" + db_->path_ + "': transaction committed twice");
+  Exec(db_->db_, db_->path_, "COMMIT");  // on failure (e.g. busy) the destructor rolls back
+  done_ = true;
+}
+
+void Database::BackupTwoViewGeometries() {
+  if (HasBackup()) return;
+  ScopedTransaction transaction(db_, path_);
+  Exec(db_, path_, CreateTwoViewTableSql(kBackupTwoViewTable));
+  Exec(db_, path_,
+       std::string("INSERT INTO ") + kBackupTwoViewTable + " (" + kTwoViewColumns + ") SELECT " + kTwoViewColumns +
+           " FROM two_view_geometries");
+  transaction.Commit();
+}
+
+bool Database::HasBackup() const { return TableExists(db_, path_, kBackupTwoViewTable); }
+
+int Database::RestoreTwoViewGeometries() {
+  ScopedTransaction transaction(db_, path_);
+  const bool has_backup = HasBackup();
+  const bool has_pairs = TableExists(db_, path_, kMadsfmPairsTable);
+  const bool has_written = TableExists(db_, path_, kWrittenPairsTable);
+  int restored = 0;
+
+  // Pairs whose two_view_geometries row madsfm wrote.
+  std::string touched;
+  if (has_pairs) touched = std::string("SELECT pair_id FROM ") + kMadsfmPairsTable;
+  if (has_written) {
+    touched += (touched.empty() ? "" : " UNION ") + std::string("SELECT pair_id FROM ") + kWrittenPairsTable;
+  }
+  if (has_written && !has_backup) {
+    throw std::runtime_error("'" + path_ + "': madsfm wrote two-view geometries but the backup table " +
+                             kBackupTwoViewTable + " is missing; nothing restored");
+  }
+  // Without a backup madsfm never wrote a two_view_geometries row (the backup precedes the first write).
+  if (has_backup && !touched.empty()) {
+    Exec(db_, path_, "DELETE FROM two_view_geometries WHERE pair_id IN (" + touched + ")");
+    Exec(db_, path_,
+         std::string("INSERT INTO two_view_geometries (") + kTwoViewColumns + ") SELECT " + kTwoViewColumns +
+             " FROM " + kBackupTwoViewTable + " WHERE pair_id IN (" + touched + ")");
+    restored = sqlite3_changes(db_);
+  }
+  if (TableExists(db_, path_, kCreatedMatchesTable)) {
+    Exec(db_, path_,
+         std::string("DELETE FROM matches WHERE pair_id IN (SELECT pair_id FROM ") + kCreatedMatchesTable + ")");
+  }
+  if (TableExists(db_, path_, kBackupCamerasTable)) {
+    const std::string b = kBackupCamerasTable;
+    Exec(db_, path_,
+         "UPDATE cameras SET "
+         "model = (SELECT model FROM " + b + " WHERE " + b + ".camera_id = cameras.camera_id), "
+         "width = (SELECT width FROM " + b + " WHERE " + b + ".camera_id = cameras.camera_id), "
+         "height = (SELECT height FROM " + b + " WHERE " + b + ".camera_id = cameras.camera_id), "
+         "params = (SELECT params FROM " + b + " WHERE " + b + ".camera_id = cameras.camera_id), "
+         "prior_focal_length = (SELECT prior_focal_length FROM " + b + " WHERE " + b +
+         ".camera_id = cameras.camera_id) "
+         "WHERE camera_id IN (SELECT camera_id FROM " + b + ")");
+  }
+  for (const char* table :
+       {kBackupTwoViewTable, kBackupCamerasTable, kMadsfmPairsTable, kCreatedMatchesTable, kWrittenPairsTable}) {
+    Exec(db_, path_, std::string("DROP TABLE IF EXISTS ") + table);
+  }
+  transaction.Commit();
+  return restored;
+}
+
+void Database::WriteTwoViewGeometry(const TwoViewGeometryRow& row) {
+  if (row.qvec.has_value() != row.tvec.has_value()) {
+    throw std::invalid_argument("'" + path_ + "': " + PairName(row.pair_id) +
+                                ": qvec and tvec must both be set or both be absent");
+  }
+  image_t id1, id2;
+  PairIdToImagePair(row.pair_id, &id1, &id2);
+  if (id1 >= id2 || ImagePairToPairId(id1, id2) != row.pair_id) {
+    throw std::invalid_argument("'" + path_ + "': invalid pair_id " + std::to_string(row.pair_id));
+  }
+  ScopedTransaction transaction(db_, path_);
+  BackupTwoViewGeometries();  // no-op once the backup exists
+  Exec(db_, path_,
+       std::string("CREATE TABLE IF NOT EXISTS ") + kWrittenPairsTable + " (pair_id INTEGER PRIMARY KEY NOT NULL)");
+  Exec(db_, path_,
+       std::string("CREATE TABLE IF NOT EXISTS ") + kCreatedMatchesTable +
+           " (pair_id INTEGER PRIMARY KEY NOT NULL)");
+  {
+    Statement stmt(db_, path_,
+                   std::string("INSERT OR REPLACE INTO two_view_geometries (") + kTwoViewColumns +
+                       ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+    stmt.BindInt64(1, static_cast<int64_t>(row.pair_id));
+    stmt.BindInt64(2, static_cast<int64_t>(row.inlier_matches.size()));
+    stmt.BindInt64(3, 2);
+    BindMatchesBlob(&stmt, 4, row.inlier_matches);
+    stmt.BindInt64(5, row.config);
+    const std::optional<Eigen::Matrix3d>* matrices[3] = {&row.F, &row.E, &row.H};
+    for (int k = 0; k < 3; ++k) {
+      if (matrices[k]->has_value()) {
+        const std::array<double, 9> v = RowMajor(**matrices[k]);
+        stmt.BindBlob(6 + k, v.data(), sizeof(v));
+      } else {
+        stmt.BindNull(6 + k);
+      }
+    }
+    if (row.qvec.has_value()) {
+      const double q[4] = {(*row.qvec)(0), (*row.qvec)(1), (*row.qvec)(2), (*row.qvec)(3)};
+      const double t[3] = {(*row.tvec)(0), (*row.tvec)(1), (*row.tvec)(2)};
+      stmt.BindBlob(9, q, sizeof(q));
+      stmt.BindBlob(10, t, sizeof(t));
+    } else {
+      stmt.BindNull(9);
+      stmt.BindNull(10);
+    }
+    stmt.Run();
+  }
+  {
+    Statement stmt(db_, path_, std::string("INSERT OR IGNORE INTO ") + kWrittenPairsTable + " (pair_id) VALUES (?)");
+    stmt.BindInt64(1, static_cast<int64_t>(row.pair_id));
+    stmt.Run();
+  }
+  // COLMAP re-matches a pair that has a two_view_geometries row but no matches row: give it one.
+  bool has_matches;
+  {
+    Statement stmt(db_, path_, "SELECT 1 FROM matches WHERE pair_id = ?");
+    stmt.BindInt64(1, static_cast<int64_t>(row.pair_id));
+    has_matches = stmt.Step();
+  }
+  if (!has_matches) {
+    Statement insert(db_, path_, "INSERT INTO matches (pair_id, rows, cols, data) VALUES (?, ?, 2, ?)");
+    insert.BindInt64(1, static_cast<int64_t>(row.pair_id));
+    insert.BindInt64(2, static_cast<int64_t>(row.inlier_matches.size()));
+    BindMatchesBlob(&insert, 3, row.inlier_matches);
+    insert.Run();
+    Statement track(db_, path_, std::string("INSERT OR IGNORE INTO ") + kCreatedMatchesTable + " (pair_id) VALUES (?)");
+    track.BindInt64(1, static_cast<int64_t>(row.pair_id));
+    track.Run();
+  }
+  transaction.Commit();
+}
+
+void Database::CreateMadsfmTables() {
+  ScopedTransaction transaction(db_, path_);
+  Exec(db_, path_,
+       std::string("CREATE TABLE IF NOT EXISTS ") + kMadsfmPairsTable +
+           " (pair_id INTEGER PRIMARY KEY NOT NULL, image_id1 INTEGER NOT NULL, image_id2 INTEGER NOT NULL, "
+           "R BLOB NOT NULL, t BLOB NOT NULL, scale REAL, shift1 REAL, shift2 REAL, focal1 REAL, focal2 REAL, "
+           "camera_mode INTEGER NOT NULL, method INTEGER NOT NULL, num_inliers_reproj1 INTEGER NOT NULL, "
+           "num_inliers_reproj2 INTEGER NOT NULL, num_inliers_sampson INTEGER NOT NULL, "
+           "num_inliers INTEGER NOT NULL, score REAL, options_fingerprint TEXT, status INTEGER NOT NULL)");
+  transaction.Commit();
+}
+
+void Database::WriteMadsfmPair(const MadsfmPairRow& row) {
+  image_t id1, id2;
+  PairIdToImagePair(row.pair_id, &id1, &id2);
+  ScopedTransaction transaction(db_, path_);
+  CreateMadsfmTables();
+  Statement stmt(db_, path_,
+                 std::string("INSERT OR REPLACE INTO ") + kMadsfmPairsTable +
+                     " (pair_id, image_id1, image_id2, R, t, scale, shift1, shift2, focal1, focal2, camera_mode, "
+                     "method, num_inliers_reproj1, num_inliers_reproj2, num_inliers_sampson, num_inliers, score, "
+                     "options_fingerprint, status) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+  stmt.BindInt64(1, static_cast<int64_t>(row.pair_id));
+  stmt.BindInt64(2, id1);
+  stmt.BindInt64(3, id2);
+  const std::array<double, 9> R = RowMajor(row.R);
+  const double t[3] = {row.t(0), row.t(1), row.t(2)};
+  stmt.BindBlob(4, R.data(), sizeof(R));
+  stmt.BindBlob(5, t, sizeof(t));
+  const double reals[5] = {row.scale, row.shift1, row.shift2, row.focal1, row.focal2};
+  for (int k = 0; k < 5; ++k) stmt.BindDouble(6 + k, reals[k]);  // NaN is stored as NULL, read back as NaN
+  stmt.BindInt64(11, row.camera_mode);
+  stmt.BindInt64(12, row.method);
+  stmt.BindInt64(13, row.num_inliers_reproj1);
+  stmt.BindInt64(14, row.num_inliers_reproj2);
+  stmt.BindInt64(15, row.num_inliers_sampson);
+  stmt.BindInt64(16, row.num_inliers);
+  stmt.BindDouble(17, row.score);
+  stmt.BindText(18, row.options_fingerprint);
+  stmt.BindInt64(19, row.status);
+  stmt.Run();
+  transaction.Commit();
+}
+
+namespace {
+
+constexpr const char* kMadsfmPairColumns =
+    "pair_id, R, t, scale, shift1, shift2, focal1, focal2, camera_mode, method, num_inliers_reproj1, "
+    "num_inliers_reproj2, num_inliers_sampson, num_inliers, score, options_fingerprint, status";
+
+MadsfmPairRow ReadMadsfmPairRow(const Statement& stmt, const std::string& path) {
+  MadsfmPairRow row;
+  row.pair_id = static_cast<pair_t>(stmt.Int64(0));
+  const std::string what = std::string(kMadsfmPairsTable) + " row of " + PairName(row.pair_id);
+  double R[9], t[3];
+  if (!ReadDoubles(stmt, 1, 9, R, path, what + " column R") || !ReadDoubles(stmt, 2, 3, t, path, what + " column t")) {
+    throw std::runtime_error("'" + path + "': " + what + " has no R or t");
+  }
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) row.R(r, c) = R[3 * r + c];
+  row.t = Eigen::Vector3d(t[0], t[1], t[2]);
+  row.scale = stmt.Double(3);
+  row.shift1 = stmt.Double(4);
+  row.shift2 = stmt.Double(5);
+  row.focal1 = stmt.Double(6);
+  row.focal2 = stmt.Double(7);
+  row.camera_mode = static_cast<int>(stmt.Int64(8));
+  row.method = static_cast<int>(stmt.Int64(9));
+  row.num_inliers_reproj1 = static_cast<int>(stmt.Int64(10));
+  row.num_inliers_reproj2 = static_cast<int>(stmt.Int64(11));
+  row.num_inliers_sampson = static_cast<int>(stmt.Int64(12));
+  row.num_inliers = static_cast<int>(stmt.Int64(13));
+  row.score = stmt.Double(14);
+  row.options_fingerprint = stmt.Text(15);
+  row.status = static_cast<int>(stmt.Int64(16));
+  return row;
+}
+
+}  // namespace
+
+std::optional<MadsfmPairRow> Database::ReadMadsfmPair(pair_t pair_id) const {
+  if (!TableExists(db_, path_, kMadsfmPairsTable)) return std::nullopt;
+  Statement stmt(db_, path_,
+                 std::string("SELECT ") + kMadsfmPairColumns + " FROM " + kMadsfmPairsTable + " WHERE pair_id = ?");
+  stmt.BindInt64(1, static_cast<int64_t>(pair_id));
+  if (!stmt.Step()) return std::nullopt;
+  return ReadMadsfmPairRow(stmt, path_);
+}
+
+std::vector<MadsfmPairRow> Database::ReadMadsfmPairs() const {
+  std::vector<MadsfmPairRow> rows;
+  if (!TableExists(db_, path_, kMadsfmPairsTable)) return rows;
+  Statement stmt(db_, path_,
+                 std::string("SELECT ") + kMadsfmPairColumns + " FROM " + kMadsfmPairsTable + " ORDER BY pair_id");
+  while (stmt.Step()) rows.push_back(ReadMadsfmPairRow(stmt, path_));
+  return rows;
+}
+
+void Database::UpdateCamera(const Camera& camera) {
+  ScopedTransaction transaction(db_, path_);
+  const std::string what = "camera_id " + std::to_string(camera.camera_id);
+  int stored_model;
+  {
+    Statement stmt(db_, path_, "SELECT model FROM cameras WHERE camera_id = ?");
+    stmt.BindInt64(1, camera.camera_id);
+    if (!stmt.Step()) throw std::runtime_error("'" + path_ + "': UpdateCamera: no " + what + " in the database");
+    stored_model = static_cast<int>(stmt.Int64(0));
+  }
+  const int num_params = CameraModelNumParams(stored_model);
+  if (stored_model != camera.intrinsics.model_id ||
+      (num_params >= 0 && static_cast<int>(camera.intrinsics.params.size()) != num_params)) {
+    throw std::invalid_argument("'" + path_ + "': UpdateCamera: " + what + " is " + CameraModelName(stored_model) +
+                                " in the database; got model " + CameraModelName(camera.intrinsics.model_id) +
+                                " with " + std::to_string(camera.intrinsics.params.size()) + " params");
+  }
+  Exec(db_, path_,
+       std::string("CREATE TABLE IF NOT EXISTS ") + kBackupCamerasTable +
+           " (camera_id INTEGER PRIMARY KEY NOT NULL, model INTEGER NOT NULL, width INTEGER NOT NULL, "
+           "height INTEGER NOT NULL, params BLOB, prior_focal_length INTEGER NOT NULL)");
+  {
+    // The original row, once (later updates keep the first backup).
+    Statement stmt(db_, path_,
+                   std::string("INSERT OR IGNORE INTO ") + kBackupCamerasTable + " (" + kCameraColumns + ") SELECT " +
+                       kCameraColumns + " FROM cameras WHERE camera_id = ?");
+    stmt.BindInt64(1, camera.camera_id);
+    stmt.Run();
+  }
+  {
+    Statement stmt(db_, path_, "UPDATE cameras SET params = ?, prior_focal_length = ? WHERE camera_id = ?");
+    stmt.BindBlob(1, camera.intrinsics.params.data(), camera.intrinsics.params.size() * sizeof(double));
+    stmt.BindInt64(2, camera.prior_focal_length ? 1 : 0);
+    stmt.BindInt64(3, camera.camera_id);
+    stmt.Run();
+  }
+  transaction.Commit();
+}
+
+}  // namespace madsfm::colmap

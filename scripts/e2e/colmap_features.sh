@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# COLMAP features for an end-to-end demo project: SIFT extraction and exhaustive matching on the CPU.
+#
+# Usage: scripts/e2e/colmap_features.sh PROJECT_DIR
+# In:  PROJECT_DIR/images/*  (e.g. written by `madsfm render_scene --output_path PROJECT_DIR`).
+# Out: PROJECT_DIR/database.db (replaced) with one shared SIMPLE_RADIAL camera (no EXIF, so COLMAP guesses
+#      f = 1.2 max(W, H) and stores prior_focal_length = 0), keypoints, descriptors, matches and verified
+#      two-view geometries; logs in PROJECT_DIR/logs/. Quiet on success; on failure prints the log and exits 1.
+#
+# Headless: COLMAP 3.8 (/usr/bin/colmap, Debian build without CUDA) only creates a QApplication / OpenGL context
+# for SIFT when --SiftExtraction.use_gpu / --SiftMatching.use_gpu is 1; with use_gpu 0 (CPU SIFT, VLFeat) neither
+# command needs a display. QT_QPA_PLATFORM=offscreen is exported anyway so that nothing Qt-related can try to
+# open an X11 connection (without it a Qt platform plugin lookup fails with "could not connect to display").
+# COLMAP env: COLMAP (binary, default colmap), NUM_THREADS (default -1 = all cores).
+set -euo pipefail
+
+if [[ $# -ne 1 ]]; then
+  echo "usage: $0 PROJECT_DIR" >&2
+  exit 2
+fi
+PROJECT_DIR=$1
+COLMAP=${COLMAP:-colmap}
+NUM_THREADS=${NUM_THREADS:--1}
+export QT_QPA_PLATFORM=offscreen
+
+if [[ ! -d "$PROJECT_DIR/images" ]]; then
+  echo "$0: no images directory '$PROJECT_DIR/images'" >&2
+  exit 1
+fi
+mkdir -p "$PROJECT_DIR/logs"
+rm -f "$PROJECT_DIR/database.db" "$PROJECT_DIR/database.db-shm" "$PROJECT_DIR/database.db-wal"
+
+run() {  # run LOG_NAME COMMAND...: quiet unless it fails
+  local log="$PROJECT_DIR/logs/$1.log"
+  shift
+  if ! "$@" >"$log" 2>&1; then
+    echo "$0: '$*' failed; log $log:" >&2
+    cat "$log" >&2
+    exit 1
+  fi
+}
+
+run feature_extractor "$COLMAP" feature_extractor \
+  --database_path "$PROJECT_DIR/database.db" \
+  --image_path "$PROJECT_DIR/images" \
+  --ImageReader.single_camera 1 \
+  --ImageReader.camera_model SIMPLE_RADIAL \
+  --SiftExtraction.use_gpu 0 \
+  --SiftExtraction.num_threads "$NUM_THREADS"
+
+run exhaustive_matcher "$COLMAP" exhaustive_matcher \
+  --database_path "$PROJECT_DIR/database.db" \
+  --SiftMatching.use_gpu 0 \
+  --SiftMatching.num_threads "$NUM_THREADS"

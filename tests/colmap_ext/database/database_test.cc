@@ -1,0 +1,1007 @@
+// madsfm's SQLite layer over COLMAP databases: schema detection (a database made by Debian's `colmap` 3.8 binary and
+// synthetic 3.8 / 3.10 / 3.11 / 3.12 / 4.1.1 schemas), exact read-back of everything populated with raw SQL, two-view
+// geometry writes (blob sizes, NULL rules, the matches row COLMAP needs), backup/restore to the original bytes,
+// madsfm's own tables, transactions, and the errors of bad inputs.
+#include "colmap_ext/database/database.h"
+
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <Eigen/Geometry>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <set>
+#include <stdexcept>
+#include <thread>
+
+namespace madsfm::colmap {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------------------------
+// Test helpers: temp dirs, raw SQL, schemas, population.
+
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (fs::path(::testing::TempDir()) / "madsfm_db_test_XXXXXX").string();
+    char* dir = ::mkdtemp(pattern.data());
+    if (dir == nullptr) throw std::runtime_error("mkdtemp failed");
+    path_ = dir;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  std::string File(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  fs::path path_;
+};
+
+// A raw sqlite3 connection for setting up and inspecting databases behind the layer's back.
+class RawDb {
+ public:
+  explicit RawDb(const std::string& path) {
+    if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) {
+      throw std::runtime_error("cannot open " + path);
+    }
+  }
+  ~RawDb() { sqlite3_close_v2(db_); }
+  void Exec(const std::string& sql) {
+    char* error = nullptr;
+    if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
+      const std::string message = error ? error : "?";
+      sqlite3_free(error);
+      throw std::runtime_error(sql + ": " + message);
+    }
+  }
+  // Runs sql with ? parameters: each argument an int64, a double, a string (text) or a blob (std::vector<char>).
+  struct Value {
+    enum Kind { kInt, kReal, kText, kBlob, kNull } kind = kNull;
+    int64_t i = 0;
+    double d = 0;
+    std::string s;
+    Value(int64_t v) : kind(kInt), i(v) {}                    // NOLINT
+    Value(int v) : kind(kInt), i(v) {}                        // NOLINT
+    Value(double v) : kind(kReal), d(v) {}                    // NOLINT
+    Value(const char* v) : kind(kText), s(v) {}               // NOLINT
+    static Value Blob(const void* data, size_t n) {
+      Value v(0);
+      v.kind = kBlob;
+      v.s.assign(static_cast<const char*>(data), n);
+      return v;
+    }
+    static Value Null() {
+      Value v(0);
+      v.kind = kNull;
+      return v;
+    }
+  };
+  void Run(const std::string& sql, const std::vector<Value>& values) {
+    sqlite3_stmt* stmt = nullptr;
+    if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &stmt, nullptr) != SQLITE_OK) {
+      throw std::runtime_error(sql + ": " + sqlite3_errmsg(db_));
+    }
+    for (size_t k = 0; k < values.size(); ++k) {
+      const Value& v = values[k];
+      const int i = static_cast<int>(k) + 1;
+      switch (v.kind) {
+        case Value::kInt: sqlite3_bind_int64(stmt, i, v.i); break;
+        case Value::kReal: sqlite3_bind_double(stmt, i, v.d); break;
+        case Value::kText: sqlite3_bind_text(stmt, i, v.s.c_str(), -1, SQLITE_TRANSIENT); break;
+        case Value::kBlob:
+          if (v.s.empty()) {
+            sqlite3_bind_zeroblob(stmt, i, 0);
+          } else {
+            sqlite3_bind_blob(stmt, i, v.s.data(), static_cast<int>(v.s.size()), SQLITE_TRANSIENT);
+          }
+          break;
+        case Value::kNull: sqlite3_bind_null(stmt, i); break;
+      }
+    }
+    const int rc = sqlite3_step(stmt);
+    sqlite3_finalize(stmt);
+    if (rc != SQLITE_DONE && rc != SQLITE_ROW) throw std::runtime_error(sql + ": " + sqlite3_errmsg(db_));
+  }
+  // Every cell of a query as "type:bytes" (exact: blobs byte for byte, reals bit for bit).
+  std::vector<std::vector<std::string>> Snapshot(const std::string& sql) {
+    sqlite3_stmt* stmt = nullptr;
+    if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &stmt, nullptr) != SQLITE_OK) {
+      throw std::runtime_error(sql + ": " + sqlite3_errmsg(db_));
+    }
+    std::vector<std::vector<std::string>> rows;
+    while (sqlite3_step(stmt) == SQLITE_ROW) {
+      std::vector<std::string> row;
+      for (int c = 0; c < sqlite3_column_count(stmt); ++c) {
+        const int type = sqlite3_column_type(stmt, c);
+        std::string cell = std::to_string(type) + ":";
+        if (type == SQLITE_INTEGER) {
+          cell += std::to_string(sqlite3_column_int64(stmt, c));
+        } else if (type == SQLITE_FLOAT) {
+          const double d = sqlite3_column_double(stmt, c);
+          cell.append(reinterpret_cast<const char*>(&d), sizeof(d));
+        } else if (type != SQLITE_NULL) {
+          const void* data = sqlite3_column_blob(stmt, c);
+          cell.append(static_cast<const char*>(data), sqlite3_column_bytes(stmt, c));
+        }
+        row.push_back(cell);
+      }
+      rows.push_back(row);
+    }
+    sqlite3_finalize(stmt);
+    return rows;
+  }
+  std::string QueryText(const std::string& sql) {
+    const auto rows = Snapshot(sql);
+    if (rows.empty() || rows[0].empty()) return "<no row>";
+    return rows[0][0].substr(rows[0][0].find(':') + 1);
+  }
+  int64_t QueryInt(const std::string& sql) { return std::stoll(QueryText(sql)); }
+  sqlite3* handle() { return db_; }
+
+ private:
+  sqlite3* db_ = nullptr;
+};
+
+template <typename T>
+RawDb::Value BlobOf(const std::vector<T>& v) {
+  return RawDb::Value::Blob(v.data(), v.size() * sizeof(T));
+}
+
+bool HaveColmap() { return std::system("command -v colmap > /dev/null 2>&1") == 0; }
+
+void CreateWithColmap(const std::string& path) {
+  const std::string cmd = "colmap database_creator --database_path '" + path + "' > '" + path + ".log' 2>&1";
+  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("colmap database_creator failed: " + cmd);
+}
+
+// Schemas as COLMAP creates them (colmap.md: 3.8 verbatim from database_creator; 3.10-4.1.1 from the sources).
+const char* kCommonTables = R"SQL(
+CREATE TABLE cameras (camera_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, model INTEGER NOT NULL, width INTEGER NOT NULL, height INTEGER NOT NULL, params BLOB, prior_focal_length INTEGER NOT NULL);
+CREATE TABLE keypoints (image_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL, data BLOB, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE CASCADE);
+CREATE TABLE matches (pair_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL, data BLOB);
+CREATE TABLE two_view_geometries (pair_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL, data BLOB, config INTEGER NOT NULL, F BLOB, E BLOB, H BLOB, qvec BLOB, tvec BLOB);
+)SQL";
+const char* kImagesWithPriors =
+    "CREATE TABLE images (image_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, name TEXT NOT NULL UNIQUE, camera_id "
+    "INTEGER NOT NULL, prior_qw REAL, prior_qx REAL, prior_qy REAL, prior_qz REAL, prior_tx REAL, prior_ty REAL, "
+    "prior_tz REAL, CONSTRAINT image_id_check CHECK(image_id >= 0 and image_id < 2147483647), FOREIGN KEY(camera_id) "
+    "REFERENCES cameras(camera_id)); CREATE UNIQUE INDEX index_name ON images(name);";
+const char* kImagesPlain =
+    "CREATE TABLE images (image_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, name TEXT NOT NULL UNIQUE, camera_id "
+    "INTEGER NOT NULL, CONSTRAINT image_id_check CHECK(image_id >= 0 and image_id < 2147483647), FOREIGN "
+    "KEY(camera_id) REFERENCES cameras(camera_id)); CREATE UNIQUE INDEX index_name ON images(name);";
+const char* kDescriptors3 =
+    "CREATE TABLE descriptors (image_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL, "
+    "data BLOB, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE CASCADE);";
+const char* kDescriptors4 =
+    "CREATE TABLE descriptors (image_id INTEGER PRIMARY KEY NOT NULL, type INTEGER NOT NULL, rows INTEGER NOT NULL, "
+    "cols INTEGER NOT NULL, data BLOB, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE CASCADE);";
+const char* kPosePriors310 =
+    "CREATE TABLE pose_priors (image_id INTEGER PRIMARY KEY NOT NULL, position BLOB, coordinate_system INTEGER NOT "
+    "NULL, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE CASCADE);";
+const char* kPosePriors311 =
+    "CREATE TABLE pose_priors (image_id INTEGER PRIMARY KEY NOT NULL, position BLOB, coordinate_system INTEGER NOT "
+    "NULL, position_covariance BLOB, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE CASCADE);";
+const char* kPosePriors4 =
+    "CREATE TABLE pose_priors (pose_prior_id INTEGER PRIMARY KEY NOT NULL, corr_data_id INTEGER NOT NULL, "
+    "corr_sensor_id INTEGER NOT NULL, corr_sensor_type INTEGER NOT NULL, position BLOB, position_covariance BLOB, "
+    "gravity BLOB, coordinate_system INTEGER NOT NULL);";
+const char* kRigsFrames = R"SQL(
+CREATE TABLE rigs (rig_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, ref_sensor_id INTEGER NOT NULL, ref_sensor_type INTEGER NOT NULL);
+CREATE TABLE rig_sensors (rig_id INTEGER NOT NULL, sensor_id INTEGER NOT NULL, sensor_type INTEGER NOT NULL, sensor_from_rig BLOB, FOREIGN KEY(rig_id) REFERENCES rigs(rig_id) ON DELETE CASCADE);
+CREATE TABLE frames (frame_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, rig_id INTEGER NOT NULL, FOREIGN KEY(rig_id) REFERENCES rigs(rig_id) ON DELETE CASCADE);
+CREATE TABLE frame_data (frame_id INTEGER NOT NULL, data_id INTEGER NOT NULL, sensor_id INTEGER NOT NULL, sensor_type INTEGER NOT NULL, FOREIGN KEY(frame_id) REFERENCES frames(frame_id) ON DELETE CASCADE);
+)SQL";
+
+enum class SyntheticSchema { k38, k310, k311, k312, k4, k38MigratedTo310 };
+
+void CreateSynthetic(const std::string& path, SyntheticSchema schema) {
+  RawDb db(path);
+  db.Exec(kCommonTables);
+  switch (schema) {
+    case SyntheticSchema::k38:
+      db.Exec(std::string(kImagesWithPriors) + kDescriptors3);
+      break;
+    case SyntheticSchema::k310:
+      db.Exec(std::string(kImagesPlain) + kDescriptors3 + kPosePriors310);
+      break;
+    case SyntheticSchema::k311:
+      db.Exec(std::string(kImagesPlain) + kDescriptors3 + kPosePriors311);
+      break;
+    case SyntheticSchema::k312:
+      db.Exec(std::string(kImagesPlain) + kDescriptors3 + kPosePriors311 + kRigsFrames);
+      break;
+    case SyntheticSchema::k4:
+      db.Exec(std::string(kImagesPlain) + kDescriptors4 + kPosePriors4 + kRigsFrames);
+      break;
+    case SyntheticSchema::k38MigratedTo310:
+      db.Exec(std::string(kImagesWithPriors) + kDescriptors3 + kPosePriors311);
+      break;
+  }
+}
+
+// What Populate() wrote, for exact comparison.
+struct Expected {
+  std::vector<Camera> cameras;
+  std::vector<Image> images;
+  std::map<image_t, std::vector<Eigen::Vector2d>> keypoints;  // images without a row are absent
+  std::map<pair_t, std::vector<std::array<uint32_t, 2>>> matches;
+  std::map<pair_t, TwoViewGeometryRow> two_view;  // as madsfm should read them back
+};
+
+Camera MakeCamera(camera_t id, int model, int w, int h, std::vector<double> params, bool prior) {
+  Camera c;
+  c.camera_id = id;
+  c.intrinsics.model_id = model;
+  c.intrinsics.width = w;
+  c.intrinsics.height = h;
+  c.intrinsics.params = std::move(params);
+  c.prior_focal_length = prior;
+  return c;
+}
+
+std::vector<double> RowMajor(const Eigen::Matrix3d& m) {
+  std::vector<double> v;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) v.push_back(m(r, c));
+  return v;
+}
+
+std::vector<std::array<uint32_t, 2>> RandomMatches(std::mt19937* rng, int n, uint32_t n1, uint32_t n2) {
+  std::vector<std::array<uint32_t, 2>> m(n);
+  for (auto& a : m) a = {static_cast<uint32_t>((*rng)() % n1), static_cast<uint32_t>((*rng)() % n2)};
+  return m;
+}
+
+// Fills cameras, images, keypoints, matches and COLMAP-3.8-style two_view_geometries rows with raw SQL, using only
+// columns every schema has. exotic_cameras adds cameras of a 4.x-only model (11) and an unknown model id (99).
+Expected Populate(const std::string& path, bool exotic_cameras) {
+  Expected e;
+  std::mt19937 rng(1234);
+  RawDb db(path);
+  db.Exec("BEGIN");
+
+  e.cameras.push_back(MakeCamera(1, 2, 640, 480, {600, 320, 240, 0.01}, false));
+  e.cameras.push_back(MakeCamera(2, 1, 1024, 768, {800, 810, 512.5, 383.5}, true));
+  e.cameras.push_back(MakeCamera(3, 4, 1920, 1080, {1500, 1490, 960, 540, -0.1, 0.01, 0.001, -0.0005}, true));
+  if (exotic_cameras) {
+    std::vector<double> params16(16);
+    for (int i = 0; i < 16; ++i) params16[i] = 0.5 * i + 1;
+    e.cameras.push_back(MakeCamera(4, 11, 1280, 1024, params16, false));
+    e.cameras.push_back(MakeCamera(5, 99, 100, 100, {1, 2, 3}, false));
+  }
+  for (const Camera& c : e.cameras) {
+    db.Run("INSERT INTO cameras (camera_id, model, width, height, params, prior_focal_length) VALUES (?,?,?,?,?,?)",
+           {static_cast<int64_t>(c.camera_id), c.intrinsics.model_id, c.intrinsics.width, c.intrinsics.height,
+            BlobOf(c.intrinsics.params), c.prior_focal_length ? 1 : 0});
+  }
+
+  const std::vector<std::pair<std::string, camera_t>> images = {
+      {"a/img1.jpg", 1}, {"img2.png", 2}, {"b/c/img3.jpg", 3}, {"img4.jpg", 1}, {"img5.jpg", 2}};
+  for (size_t i = 0; i < images.size(); ++i) {
+    Image image;
+    image.image_id = static_cast<image_t>(i + 1);
+    image.name = images[i].first;
+    image.camera_id = images[i].second;
+    e.images.push_back(image);
+    db.Run("INSERT INTO images (image_id, name, camera_id) VALUES (?,?,?)",
+           {static_cast<int64_t>(image.image_id), image.name.c_str(), static_cast<int64_t>(image.camera_id)});
+  }
+
+  // Keypoints with 6 (SIFT affine), 4 and 2 columns; image 5 has no keypoints row.
+  const std::vector<std::pair<int, int>> kp_shape = {{500, 6}, {300, 4}, {200, 2}, {250, 6}};
+  std::uniform_real_distribution<float> coord(0.0f, 1000.0f);
+  for (size_t i = 0; i < kp_shape.size(); ++i) {
+    const image_t id = static_cast<image_t>(i + 1);
+    const int rows = kp_shape[i].first, cols = kp_shape[i].second;
+    std::vector<float> data(static_cast<size_t>(rows * cols));
+    for (float& v : data) v = coord(rng);
+    db.Run("INSERT INTO keypoints (image_id, rows, cols, data) VALUES (?,?,?,?)",
+           {static_cast<int64_t>(id), rows, cols, BlobOf(data)});
+    auto& kp = e.keypoints[id];
+    for (int r = 0; r < rows; ++r) kp.emplace_back(data[r * cols], data[r * cols + 1]);
+  }
+
+  // Matches: (1,2), (1,3), (2,3), (2,4) with rows; (3,4) with rows = 0 (empty blob, as COLMAP writes it).
+  const struct {
+    image_t a, b;
+    int n;
+  } kMatches[] = {{1, 2, 120}, {1, 3, 80}, {2, 3, 60}, {2, 4, 50}, {3, 4, 0}};
+  for (const auto& m : kMatches) {
+    const pair_t pair_id = ImagePairToPairId(m.a, m.b);
+    const auto matches = RandomMatches(&rng, m.n, 200, 200);
+    db.Run("INSERT INTO matches (pair_id, rows, cols, data) VALUES (?,?,?,?)",
+           {static_cast<int64_t>(pair_id), m.n, 2, BlobOf(matches)});
+    e.matches[pair_id] = matches;
+  }
+
+  // Original two-view geometries, written the way COLMAP 3.8 writes them: all five blobs, zero E/H and identity pose
+  // when not estimated (read back as absent), NULL blobs when there are no inliers.
+  {
+    TwoViewGeometryRow row;
+    row.pair_id = ImagePairToPairId(1, 2);
+    row.inlier_matches.assign(e.matches[row.pair_id].begin(), e.matches[row.pair_id].begin() + 100);
+    row.config = kCalibrated;
+    row.F = Eigen::Matrix3d::Random();
+    row.E = Eigen::Matrix3d::Random();
+    row.H = Eigen::Matrix3d::Random();
+    row.qvec = Eigen::Vector4d(0.9, 0.1, -0.3, 0.2).normalized();
+    row.tvec = Eigen::Vector3d(0.3, -0.1, 0.95);
+    db.Run("INSERT INTO two_view_geometries (pair_id, rows, cols, data, config, F, E, H, qvec, tvec) VALUES "
+           "(?,?,?,?,?,?,?,?,?,?)",
+           {static_cast<int64_t>(row.pair_id), 100, 2, BlobOf(row.inlier_matches), row.config, BlobOf(RowMajor(*row.F)),
+            BlobOf(RowMajor(*row.E)), BlobOf(RowMajor(*row.H)),
+            BlobOf(std::vector<double>(row.qvec->data(), row.qvec->data() + 4)),
+            BlobOf(std::vector<double>(row.tvec->data(), row.tvec->data() + 3))});
+    e.two_view[row.pair_id] = row;
+  }
+  {
+    TwoViewGeometryRow row;
+    row.pair_id = ImagePairToPairId(1, 3);
+    row.inlier_matches.assign(e.matches[row.pair_id].begin(), e.matches[row.pair_id].begin() + 40);
+    row.config = kUncalibrated;
+    row.F = Eigen::Matrix3d::Random();
+    db.Run("INSERT INTO two_view_geometries (pair_id, rows, cols, data, config, F, E, H, qvec, tvec) VALUES "
+           "(?,?,?,?,?,?,?,?,?,?)",
+           {static_cast<int64_t>(row.pair_id), 40, 2, BlobOf(row.inlier_matches), row.config, BlobOf(RowMajor(*row.F)),
+            BlobOf(std::vector<double>(9, 0.0)), BlobOf(std::vector<double>(9, 0.0)),
+            BlobOf(std::vector<double>{1, 0, 0, 0}), BlobOf(std::vector<double>(3, 0.0))});
+    e.two_view[row.pair_id] = row;
+  }
+  {
+    TwoViewGeometryRow row;
+    row.pair_id = ImagePairToPairId(3, 4);
+    row.config = kDegenerate;
+    db.Run("INSERT INTO two_view_geometries (pair_id, rows, cols, data, config, F, E, H, qvec, tvec) VALUES "
+           "(?,?,?,NULL,?,NULL,NULL,NULL,NULL,NULL)",
+           {static_cast<int64_t>(row.pair_id), 0, 2, row.config});
+    e.two_view[row.pair_id] = row;
+  }
+  db.Exec("COMMIT");
+  return e;
+}
+
+void ExpectSameRow(const TwoViewGeometryRow& a, const TwoViewGeometryRow& b) {
+  EXPECT_EQ(a.pair_id, b.pair_id);
+  EXPECT_EQ(a.inlier_matches, b.inlier_matches);
+  EXPECT_EQ(a.config, b.config);
+  const std::optional<Eigen::Matrix3d>* ma[3] = {&a.F, &a.E, &a.H};
+  const std::optional<Eigen::Matrix3d>* mb[3] = {&b.F, &b.E, &b.H};
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_EQ(ma[k]->has_value(), mb[k]->has_value()) << "matrix " << k;
+    if (ma[k]->has_value()) {
+      EXPECT_EQ(**ma[k], **mb[k]) << "matrix " << k;  // exact: bytes round trip
+    }
+  }
+  ASSERT_EQ(a.qvec.has_value(), b.qvec.has_value());
+  ASSERT_EQ(a.tvec.has_value(), b.tvec.has_value());
+  if (a.qvec) {
+    EXPECT_EQ(*a.qvec, *b.qvec);
+    EXPECT_EQ(*a.tvec, *b.tvec);
+  }
+}
+
+void ExpectReadsEverything(const Database& db, const Expected& e) {
+  const std::vector<Camera> cameras = db.ReadCameras();
+  ASSERT_EQ(cameras.size(), e.cameras.size());
+  for (size_t i = 0; i < cameras.size(); ++i) {
+    EXPECT_EQ(cameras[i].camera_id, e.cameras[i].camera_id);
+    EXPECT_EQ(cameras[i].intrinsics.model_id, e.cameras[i].intrinsics.model_id);
+    EXPECT_EQ(cameras[i].intrinsics.width, e.cameras[i].intrinsics.width);
+    EXPECT_EQ(cameras[i].intrinsics.height, e.cameras[i].intrinsics.height);
+    EXPECT_EQ(cameras[i].intrinsics.params, e.cameras[i].intrinsics.params);
+    EXPECT_EQ(cameras[i].prior_focal_length, e.cameras[i].prior_focal_length);
+  }
+  const std::vector<Image> images = db.ReadImages();
+  ASSERT_EQ(images.size(), e.images.size());
+  for (size_t i = 0; i < images.size(); ++i) {
+    EXPECT_EQ(images[i].image_id, e.images[i].image_id);
+    EXPECT_EQ(images[i].name, e.images[i].name);
+    EXPECT_EQ(images[i].camera_id, e.images[i].camera_id);
+  }
+  for (const Image& image : e.images) {
+    const auto it = e.keypoints.find(image.image_id);
+    const std::vector<Eigen::Vector2d> kp = db.ReadKeypoints(image.image_id);
+    if (it == e.keypoints.end()) {
+      EXPECT_TRUE(kp.empty());
+    } else {
+      EXPECT_EQ(kp, it->second) << "image " << image.image_id;
+    }
+  }
+  std::vector<std::pair<pair_t, int>> expected_pairs;
+  for (const auto& [pair_id, m] : e.matches) {
+    if (!m.empty()) expected_pairs.emplace_back(pair_id, static_cast<int>(m.size()));
+  }
+  EXPECT_EQ(db.ReadMatchedPairs(), expected_pairs);  // sorted by pair id, rows > 0 only
+  for (const auto& [pair_id, m] : e.matches) EXPECT_EQ(db.ReadMatches(pair_id), m);
+  EXPECT_TRUE(db.ReadMatches(ImagePairToPairId(4, 5)).empty());
+  for (const auto& [pair_id, row] : e.two_view) {
+    const std::optional<TwoViewGeometryRow> read = db.ReadTwoViewGeometry(pair_id);
+    ASSERT_TRUE(read.has_value());
+    ExpectSameRow(*read, row);
+  }
+  EXPECT_FALSE(db.ReadTwoViewGeometry(ImagePairToPairId(2, 3)).has_value());
+}
+
+std::string IntegrityCheck(const std::string& path) { return RawDb(path).QueryText("PRAGMA integrity_check"); }
+
+// Everything COLMAP owns, exactly.
+std::vector<std::vector<std::vector<std::string>>> SnapshotColmapTables(const std::string& path) {
+  RawDb db(path);
+  return {db.Snapshot("SELECT * FROM cameras ORDER BY camera_id"),
+          db.Snapshot("SELECT * FROM images ORDER BY image_id"),
+          db.Snapshot("SELECT * FROM keypoints ORDER BY image_id"),
+          db.Snapshot("SELECT * FROM matches ORDER BY pair_id"),
+          db.Snapshot("SELECT * FROM two_view_geometries ORDER BY pair_id"),
+          db.Snapshot("SELECT type, name, tbl_name, sql FROM sqlite_master WHERE name NOT LIKE 'madsfm%' "
+                      "ORDER BY name")};
+}
+
+std::set<std::string> MadsfmTables(const std::string& path) {
+  std::set<std::string> names;
+  for (const auto& row : RawDb(path).Snapshot("SELECT name FROM sqlite_master WHERE name LIKE 'madsfm%'")) {
+    names.insert(row[0].substr(row[0].find(':') + 1));
+  }
+  return names;
+}
+
+// The geometries madsfm writes in the scenario tests.
+std::vector<TwoViewGeometryRow> NewGeometries(const Expected& e) {
+  std::vector<TwoViewGeometryRow> rows;
+  {
+    TwoViewGeometryRow row;  // replaces COLMAP's (1, 2): full pose
+    row.pair_id = ImagePairToPairId(1, 2);
+    const auto& m = e.matches.at(row.pair_id);
+    row.inlier_matches.assign(m.begin() + 10, m.begin() + 110);
+    row.config = kCalibrated;
+    row.E = Eigen::Matrix3d::Random();
+    row.F = Eigen::Matrix3d::Random();
+    row.qvec = Eigen::Vector4d(0.8, -0.2, 0.1, 0.3).normalized();
+    row.tvec = Eigen::Vector3d(-0.5, 0.2, 0.8).normalized();
+    rows.push_back(row);
+  }
+  {
+    TwoViewGeometryRow row;  // new row for (2, 3): F only (matches row exists)
+    row.pair_id = ImagePairToPairId(2, 3);
+    const auto& m = e.matches.at(row.pair_id);
+    row.inlier_matches.assign(m.begin(), m.begin() + 30);
+    row.config = kUncalibrated;
+    row.F = Eigen::Matrix3d::Random();
+    rows.push_back(row);
+  }
+  {
+    TwoViewGeometryRow row;  // (1, 4): neither a matches nor a two_view_geometries row before
+    row.pair_id = ImagePairToPairId(4, 1);
+    row.inlier_matches = {{0, 1}, {5, 7}, {9, 2}, {10, 11}, {499, 249}};
+    row.config = kCalibrated;
+    row.E = Eigen::Matrix3d::Random();
+    row.qvec = Eigen::Vector4d(1, 0, 0, 0.1).normalized();
+    row.tvec = Eigen::Vector3d(1, 0, 0);
+    rows.push_back(row);
+  }
+  {
+    TwoViewGeometryRow row;  // replaces COLMAP's degenerate (3, 4), whose matches row has rows = 0
+    row.pair_id = ImagePairToPairId(3, 4);
+    row.config = kDegenerate;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+MadsfmPairRow MakeMadsfmRow(pair_t pair_id, double seed) {
+  MadsfmPairRow row;
+  row.pair_id = pair_id;
+  row.R = Eigen::AngleAxisd(0.1 * seed, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  row.t = Eigen::Vector3d(0.1, -0.2, 0.9) * seed;
+  row.scale = 1.25 * seed;
+  row.shift1 = -0.125;
+  row.shift2 = 0.5 + seed;
+  row.focal1 = 812.75;
+  row.focal2 = std::numeric_limits<double>::quiet_NaN();  // e.g. not estimated
+  row.camera_mode = 2;
+  row.method = 1;
+  row.num_inliers_reproj1 = 101;
+  row.num_inliers_reproj2 = 99;
+  row.num_inliers_sampson = 130;
+  row.num_inliers = 140;
+  row.score = 17.5 * seed;
+  row.options_fingerprint = "reproj=8;epi=2;seed=" + std::to_string(seed);
+  row.status = 0;
+  return row;
+}
+
+void ExpectSameMadsfmRow(const MadsfmPairRow& a, const MadsfmPairRow& b) {
+  EXPECT_EQ(a.pair_id, b.pair_id);
+  EXPECT_EQ(a.R, b.R);
+  EXPECT_EQ(a.t, b.t);
+  EXPECT_EQ(a.scale, b.scale);
+  EXPECT_EQ(a.shift1, b.shift1);
+  EXPECT_EQ(a.shift2, b.shift2);
+  EXPECT_EQ(a.focal1, b.focal1);
+  EXPECT_EQ(std::isnan(a.focal2), std::isnan(b.focal2));
+  if (!std::isnan(a.focal2)) {
+    EXPECT_EQ(a.focal2, b.focal2);
+  }
+  EXPECT_EQ(a.camera_mode, b.camera_mode);
+  EXPECT_EQ(a.method, b.method);
+  EXPECT_EQ(a.num_inliers_reproj1, b.num_inliers_reproj1);
+  EXPECT_EQ(a.num_inliers_reproj2, b.num_inliers_reproj2);
+  EXPECT_EQ(a.num_inliers_sampson, b.num_inliers_sampson);
+  EXPECT_EQ(a.num_inliers, b.num_inliers);
+  EXPECT_EQ(a.score, b.score);
+  EXPECT_EQ(a.options_fingerprint, b.options_fingerprint);
+  EXPECT_EQ(a.status, b.status);
+}
+
+// The whole write / read-back / backup / restore scenario on one populated database.
+void RunWriteRestoreScenario(const std::string& path, const Expected& e) {
+  const auto original = SnapshotColmapTables(path);
+  const std::vector<TwoViewGeometryRow> rows = NewGeometries(e);
+  const pair_t p14 = ImagePairToPairId(1, 4);
+  const std::string matches_12_before = RawDb(path).QueryText("SELECT hex(data) FROM matches WHERE pair_id = " +
+                                                              std::to_string(ImagePairToPairId(1, 2)));
+  {
+    auto db = Database::Open(path);
+    EXPECT_FALSE(db->HasBackup());
+    {
+      Database::Transaction transaction(db.get());
+      db->BackupTwoViewGeometries();
+      for (const auto& row : rows) db->WriteTwoViewGeometry(row);
+      db->WriteMadsfmPair(MakeMadsfmRow(rows[0].pair_id, 1));
+      db->WriteMadsfmPair(MakeMadsfmRow(rows[1].pair_id, 2));
+      transaction.Commit();
+    }
+    EXPECT_TRUE(db->HasBackup());
+    for (const auto& row : rows) {
+      const auto read = db->ReadTwoViewGeometry(row.pair_id);
+      ASSERT_TRUE(read.has_value());
+      ExpectSameRow(*read, row);
+    }
+    // A pair with a geometry but no matches row got one, holding the inlier matches.
+    EXPECT_EQ(db->ReadMatches(p14), rows[2].inlier_matches);
+    // Existing matches rows are left alone (also the one with rows = 0).
+    EXPECT_EQ(db->ReadMatches(ImagePairToPairId(3, 4)).size(), 0u);
+
+    // Camera updates keep the first original row.
+    Camera camera = e.cameras[0];
+    camera.intrinsics.params[0] = 777;
+    camera.prior_focal_length = true;
+    db->UpdateCamera(camera);
+    camera.intrinsics.params[0] = 778;
+    db->UpdateCamera(camera);
+    Camera camera3 = e.cameras[2];
+    camera3.intrinsics.SetFocal(1234);
+    db->UpdateCamera(camera3);
+    const auto cameras = db->ReadCameras();
+    EXPECT_EQ(cameras[0].intrinsics.params[0], 778);
+    EXPECT_TRUE(cameras[0].prior_focal_length);
+    EXPECT_EQ(cameras[2].intrinsics.params, camera3.intrinsics.params);
+  }
+  EXPECT_EQ(IntegrityCheck(path), "ok");
+  {
+    // Blob sizes and NULLs as COLMAP expects them.
+    RawDb raw(path);
+    const std::string where = " FROM two_view_geometries WHERE pair_id = ";
+    const std::string p12 = std::to_string(rows[0].pair_id), p23 = std::to_string(rows[1].pair_id);
+    EXPECT_EQ(raw.QueryText("SELECT length(F) || ',' || length(E) || ',' || typeof(H) || ',' || length(qvec) || ',' "
+                            "|| length(tvec) || ',' || rows || ',' || cols || ',' || length(data)" + where + p12),
+              "72,72,null,32,24,100,2,800");
+    EXPECT_EQ(raw.QueryText("SELECT length(F) || ',' || typeof(E) || ',' || typeof(H) || ',' || typeof(qvec) || ',' "
+                            "|| typeof(tvec) || ',' || config" + where + p23),
+              "72,null,null,null,null,3");
+    EXPECT_EQ(raw.QueryText("SELECT rows || ',' || cols || ',' || length(data) FROM matches WHERE pair_id = " +
+                            std::to_string(p14)),
+              "5,2,40");
+    EXPECT_EQ(raw.QueryText("SELECT hex(data) FROM matches WHERE pair_id = " + std::to_string(rows[0].pair_id)),
+              matches_12_before);
+    // Row-major F: element (0, 1) is the second double.
+    const auto cell = raw.Snapshot("SELECT F" + where + p12)[0][0];
+    double f01;
+    std::memcpy(&f01, cell.data() + cell.find(':') + 1 + sizeof(double), sizeof(double));
+    EXPECT_EQ(f01, (*rows[0].F)(0, 1));
+    EXPECT_EQ(raw.QueryInt("SELECT count(*) FROM madsfm_created_matches"), 1);
+  }
+  {
+    // madsfm's own rows, read-only.
+    auto db = Database::Open(path, /*read_only=*/true);
+    const auto madsfm_rows = db->ReadMadsfmPairs();
+    ASSERT_EQ(madsfm_rows.size(), 2u);
+    ExpectSameMadsfmRow(madsfm_rows[0], MakeMadsfmRow(rows[0].pair_id, 1));
+    ExpectSameMadsfmRow(madsfm_rows[1], MakeMadsfmRow(rows[1].pair_id, 2));
+  }
+  {
+    auto db = Database::Open(path);
+    // (1, 2) and (3, 4) had original rows; (2, 3) and (1, 4) did not.
+    EXPECT_EQ(db->RestoreTwoViewGeometries(), 2);
+    EXPECT_FALSE(db->HasBackup());
+    EXPECT_EQ(db->RestoreTwoViewGeometries(), 0);  // idempotent
+  }
+  EXPECT_EQ(SnapshotColmapTables(path), original) << "restore must give back COLMAP's tables byte for byte";
+  EXPECT_TRUE(MadsfmTables(path).empty());
+  EXPECT_EQ(IntegrityCheck(path), "ok");
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Pair ids.
+
+TEST(PairIds, KnownValueAndRoundTrip) {
+  EXPECT_EQ(ImagePairToPairId(1, 2), 2147483649ull);
+  EXPECT_EQ(ImagePairToPairId(2, 1), 2147483649ull);
+  std::mt19937 rng(7);
+  for (int i = 0; i < 10000; ++i) {
+    const image_t a = static_cast<image_t>(rng() % 2147483646u) + 1;
+    const image_t b = static_cast<image_t>(rng() % 2147483646u) + 1;
+    image_t id1, id2;
+    PairIdToImagePair(ImagePairToPairId(a, b), &id1, &id2);
+    EXPECT_EQ(id1, std::min(a, b));
+    EXPECT_EQ(id2, std::max(a, b));
+  }
+  image_t id1, id2;
+  PairIdToImagePair(ImagePairToPairId(2147483645, 2147483646), &id1, &id2);
+  EXPECT_EQ(id1, 2147483645u);
+  EXPECT_EQ(id2, 2147483646u);
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// A database made by COLMAP 3.8 itself.
+
+class Colmap38Database : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!HaveColmap()) GTEST_SKIP() << "the `colmap` binary is not installed: skipping tests on a COLMAP-made database";
+    path_ = dir_.File("colmap.db");
+    CreateWithColmap(path_);
+  }
+  TempDir dir_;
+  std::string path_;
+};
+
+TEST_F(Colmap38Database, DetectsSchema) {
+  auto db = Database::Open(path_);
+  EXPECT_EQ(db->schema(), SchemaVersion::kColmap38);
+  EXPECT_EQ(SchemaVersionName(db->schema()), "COLMAP 3.8/3.9");
+  EXPECT_EQ(db->path(), path_);
+  EXPECT_TRUE(db->ReadCameras().empty());
+  EXPECT_TRUE(db->ReadMatchedPairs().empty());
+}
+
+TEST_F(Colmap38Database, ReadsEverythingBackExactly) {
+  const Expected e = Populate(path_, /*exotic_cameras=*/true);
+  auto db = Database::Open(path_, /*read_only=*/true);
+  EXPECT_EQ(db->schema(), SchemaVersion::kColmap38);
+  ExpectReadsEverything(*db, e);
+}
+
+TEST_F(Colmap38Database, WriteBackupRestoreRoundTrip) {
+  const Expected e = Populate(path_, /*exotic_cameras=*/true);
+  RunWriteRestoreScenario(path_, e);
+}
+
+// COLMAP itself reads what madsfm wrote: `colmap database_merger` reads every camera, image, keypoint, match and
+// two-view geometry through COLMAP's own Database class (which checks the blob sizes) and writes them into a new
+// database; the geometries read back from that copy must equal what madsfm wrote.
+TEST_F(Colmap38Database, ColmapReadsWhatMadsfmWrote) {
+  const Expected e = Populate(path_, /*exotic_cameras=*/false);  // 3.8 aborts on camera models it does not know
+  // COLMAP 3.8 also aborts on an image without a keypoints row ("Keypoint format not supported"): give image 5 an
+  // empty one, as feature extraction would.
+  RawDb(path_).Exec("INSERT INTO keypoints (image_id, rows, cols, data) VALUES (5, 0, 6, zeroblob(0))");
+  const std::vector<TwoViewGeometryRow> rows = NewGeometries(e);
+  {
+    auto db = Database::Open(path_);
+    Database::Transaction transaction(db.get());
+    for (const auto& row : rows) db->WriteTwoViewGeometry(row);
+    transaction.Commit();
+  }
+  const std::string empty = dir_.File("empty.db"), merged = dir_.File("merged.db");
+  CreateWithColmap(empty);
+  const std::string cmd = "colmap database_merger --database_path1 '" + path_ + "' --database_path2 '" + empty +
+                          "' --merged_database_path '" + merged + "' > '" + merged + ".log' 2>&1";
+  if (std::system(cmd.c_str()) != 0) {
+    std::ifstream log(merged + ".log");
+    FAIL() << cmd << " failed:\n" << std::string(std::istreambuf_iterator<char>(log), {});
+  }
+  auto db = Database::Open(merged, /*read_only=*/true);
+  const auto images = db->ReadImages();
+  ASSERT_EQ(images.size(), e.images.size());
+  for (size_t i = 0; i < images.size(); ++i) {
+    ASSERT_EQ(images[i].image_id, e.images[i].image_id);  // ids kept, so pair ids are comparable
+    ASSERT_EQ(images[i].name, e.images[i].name);
+  }
+  for (const auto& row : rows) {
+    const auto read = db->ReadTwoViewGeometry(row.pair_id);
+    if (row.inlier_matches.empty()) {
+      // COLMAP reads geometries "WHERE rows > 0" in bulk (3.8 database.cc), so the merger does not copy them.
+      EXPECT_FALSE(read.has_value()) << row.pair_id;
+      continue;
+    }
+    ASSERT_TRUE(read.has_value()) << row.pair_id;
+    ExpectSameRow(*read, row);  // COLMAP writes absent matrices as zeros, which read back as absent
+    EXPECT_EQ(db->ReadMatches(row.pair_id).size(),
+              e.matches.count(row.pair_id) ? e.matches.at(row.pair_id).size() : row.inlier_matches.size());
+  }
+  EXPECT_EQ(IntegrityCheck(merged), "ok");
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// Synthetic schemas of every supported version.
+
+struct SchemaCase {
+  SyntheticSchema schema;
+  SchemaVersion expected;
+  const char* label;
+};
+
+class SyntheticSchemaTest : public ::testing::TestWithParam<SchemaCase> {};
+
+TEST_P(SyntheticSchemaTest, DetectsReadsWritesRestores) {
+  TempDir dir;
+  const std::string path = dir.File("synthetic.db");
+  CreateSynthetic(path, GetParam().schema);
+  const Expected e = Populate(path, /*exotic_cameras=*/true);
+  {
+    auto db = Database::Open(path, /*read_only=*/true);
+    EXPECT_EQ(db->schema(), GetParam().expected) << GetParam().label;
+    ExpectReadsEverything(*db, e);
+  }
+  RunWriteRestoreScenario(path, e);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Versions, SyntheticSchemaTest,
+    ::testing::Values(SchemaCase{SyntheticSchema::k38, SchemaVersion::kColmap38, "3.8"},
+                      SchemaCase{SyntheticSchema::k310, SchemaVersion::kColmap310, "3.10"},
+                      SchemaCase{SyntheticSchema::k311, SchemaVersion::kColmap310, "3.11"},
+                      SchemaCase{SyntheticSchema::k38MigratedTo310, SchemaVersion::kColmap310, "3.8 opened by 3.11"},
+                      SchemaCase{SyntheticSchema::k312, SchemaVersion::kColmap312, "3.12"},
+                      SchemaCase{SyntheticSchema::k4, SchemaVersion::kColmap4, "4.1.1"}),
+    [](const ::testing::TestParamInfo<SchemaCase>& info) {
+      switch (info.param.schema) {
+        case SyntheticSchema::k38: return std::string("Colmap38");
+        case SyntheticSchema::k310: return std::string("Colmap310");
+        case SyntheticSchema::k311: return std::string("Colmap311");
+        case SyntheticSchema::k312: return std::string("Colmap312");
+        case SyntheticSchema::k4: return std::string("Colmap4");
+        case SyntheticSchema::k38MigratedTo310: return std::string("Colmap38MigratedTo311");
+      }
+      return std::string("Unknown");
+    });
+
+// ---------------------------------------------------------------------------------------------------------------
+// Bad inputs and failure modes.
+
+// Runs f, expects a std::runtime_error whose message contains every one of needles.
+template <typename F>
+void ExpectErrorContaining(F&& f, const std::vector<std::string>& needles) {
+  try {
+    f();
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& error) {
+    const std::string message = error.what();
+    for (const std::string& needle : needles) {
+      EXPECT_NE(message.find(needle), std::string::npos) << "'" << needle << "' not in: " << message;
+    }
+    std::printf("[ message  ] %s\n", message.c_str());
+  }
+}
+
+class SyntheticDatabase : public ::testing::Test {
+ protected:
+  // A populated synthetic 3.8 database (does not need the colmap binary).
+  std::string MakeDb(const std::string& name) {
+    const std::string path = dir_.File(name);
+    CreateSynthetic(path, SyntheticSchema::k38);
+    expected_ = Populate(path, /*exotic_cameras=*/false);
+    return path;
+  }
+  TempDir dir_;
+  Expected expected_;
+};
+
+TEST_F(SyntheticDatabase, MissingFile) {
+  const std::string path = dir_.File("missing.db");
+  ExpectErrorContaining([&] { Database::Open(path); }, {"missing.db", "does not exist"});
+  EXPECT_FALSE(fs::exists(path)) << "Open must not create a database";
+}
+
+TEST_F(SyntheticDatabase, TextFile) {
+  const std::string path = dir_.File("x.db");
+  std::ofstream(path) << "this is a text file, long enough to fill a database header\n";
+  ExpectErrorContaining([&] { Database::Open(path); }, {"'" + path + "' is not a SQLite database"});
+  const std::string empty = dir_.File("empty.db");
+  std::ofstream(empty).flush();
+  ExpectErrorContaining([&] { Database::Open(empty, true); }, {"empty.db", "not a SQLite database"});
+}
+
+TEST_F(SyntheticDatabase, SqliteWithoutColmapTables) {
+  const std::string path = dir_.File("other.db");
+  RawDb(path).Exec("CREATE TABLE cameras (x INTEGER); CREATE TABLE foo (y TEXT)");
+  ExpectErrorContaining([&] { Database::Open(path); },
+                        {"other.db", "unknown schema", "images", "keypoints", "matches", "two_view_geometries"});
+}
+
+TEST_F(SyntheticDatabase, ReadOnlyFileOpenedForWriting) {
+  const std::string path = MakeDb("readonly.db");
+  ASSERT_EQ(::chmod(path.c_str(), 0444), 0);
+  ExpectErrorContaining([&] { Database::Open(path, /*read_only=*/false); }, {"readonly.db", "read-only"});
+  // Reading is fine, and writing through a read-only handle fails with the file name.
+  auto db = Database::Open(path, /*read_only=*/true);
+  EXPECT_EQ(db->ReadImages().size(), 5u);
+  TwoViewGeometryRow row;
+  row.pair_id = ImagePairToPairId(1, 2);
+  ExpectErrorContaining([&] { db->WriteTwoViewGeometry(row); }, {"readonly.db", "readonly"});
+}
+
+TEST_F(SyntheticDatabase, KeypointBlobSizeMismatch) {
+  const std::string path = MakeDb("kp.db");
+  RawDb(path).Exec("UPDATE keypoints SET rows = rows + 1 WHERE image_id = 3");
+  RawDb(path).Exec("UPDATE keypoints SET cols = 3, rows = 1000 WHERE image_id = 2");
+  auto db = Database::Open(path, true);
+  ExpectErrorContaining([&] { db->ReadKeypoints(3); }, {"kp.db", "image_id 3", "bytes"});
+  ExpectErrorContaining([&] { db->ReadKeypoints(2); }, {"kp.db", "image_id 2", "cols = 3"});
+  EXPECT_EQ(db->ReadKeypoints(1).size(), 500u);  // the others still read
+}
+
+TEST_F(SyntheticDatabase, MatchesBlobSizeMismatch) {
+  const std::string path = MakeDb("matches.db");
+  const pair_t pair_id = ImagePairToPairId(2, 3);
+  RawDb(path).Exec("UPDATE matches SET rows = 61 WHERE pair_id = " + std::to_string(pair_id));
+  auto db = Database::Open(path, true);
+  ExpectErrorContaining([&] { db->ReadMatches(pair_id); }, {"matches.db", "pair " + std::to_string(pair_id),
+                                                             "images 2, 3"});
+  // Inlier matches of a geometry likewise, and an F blob of float32 (36 bytes).
+  const pair_t p12 = ImagePairToPairId(1, 2);
+  RawDb(path).Exec("UPDATE two_view_geometries SET F = zeroblob(36) WHERE pair_id = " + std::to_string(p12));
+  ExpectErrorContaining([&] { db->ReadTwoViewGeometry(p12); }, {"matches.db", "images 1, 2", "F", "36 bytes"});
+}
+
+TEST_F(SyntheticDatabase, CameraParamsOfTheWrongLength) {
+  const std::string path = MakeDb("cameras.db");
+  RawDb raw(path);
+  const std::vector<double> params = {800, 810, 512};  // PINHOLE needs 4
+  raw.Run("UPDATE cameras SET params = ? WHERE camera_id = 2", {BlobOf(params)});
+  auto db = Database::Open(path, true);
+  ExpectErrorContaining([&] { db->ReadCameras(); }, {"cameras.db", "camera_id 2", "PINHOLE"});
+}
+
+TEST_F(SyntheticDatabase, InvalidWrites) {
+  const std::string path = MakeDb("writes.db");
+  auto db = Database::Open(path);
+  TwoViewGeometryRow row;
+  row.pair_id = ImagePairToPairId(1, 2);
+  row.qvec = Eigen::Vector4d(1, 0, 0, 0);  // without tvec
+  EXPECT_THROW(db->WriteTwoViewGeometry(row), std::invalid_argument);
+  row.qvec.reset();
+  row.pair_id = 2147483647ull * 5 + 3;  // "image 1" = 5 > "image 2" = 3: not a pair id ImagePairToPairId makes
+  EXPECT_THROW(db->WriteTwoViewGeometry(row), std::invalid_argument);
+  Camera camera = expected_.cameras[1];
+  camera.intrinsics.params.pop_back();
+  EXPECT_THROW(db->UpdateCamera(camera), std::invalid_argument);
+  camera = expected_.cameras[1];
+  camera.camera_id = 42;
+  ExpectErrorContaining([&] { db->UpdateCamera(camera); }, {"writes.db", "camera_id 42"});
+  EXPECT_EQ(IntegrityCheck(path), "ok");
+}
+
+TEST_F(SyntheticDatabase, TransactionWithoutCommitRollsBack) {
+  const std::string path = MakeDb("tx.db");
+  const pair_t p14 = ImagePairToPairId(1, 4);
+  TwoViewGeometryRow row;
+  row.pair_id = p14;
+  row.inlier_matches = {{1, 2}, {3, 4}};
+  row.config = kUncalibrated;
+  row.F = Eigen::Matrix3d::Identity();
+  {
+    auto db = Database::Open(path);
+    {
+      Database::Transaction transaction(db.get());
+      db->WriteTwoViewGeometry(row);
+      db->WriteMadsfmPair(MakeMadsfmRow(p14, 1));
+      Camera camera = expected_.cameras[0];
+      camera.intrinsics.params[0] = 1;
+      db->UpdateCamera(camera);
+      EXPECT_TRUE(db->ReadTwoViewGeometry(p14).has_value());  // visible inside the transaction
+    }  // destroyed without Commit
+    EXPECT_FALSE(db->ReadTwoViewGeometry(p14).has_value());
+    EXPECT_TRUE(db->ReadMatches(p14).empty());
+    EXPECT_FALSE(db->ReadMadsfmPair(p14).has_value());
+    EXPECT_EQ(db->ReadCameras()[0].intrinsics.params, expected_.cameras[0].intrinsics.params);
+    EXPECT_FALSE(db->HasBackup());
+    // An exception leaving the scope rolls back too.
+    try {
+      Database::Transaction transaction(db.get());
+      db->WriteTwoViewGeometry(row);
+      throw std::runtime_error("abort");
+    } catch (const std::runtime_error&) {
+    }
+    EXPECT_FALSE(db->ReadTwoViewGeometry(p14).has_value());
+    // Committed: present, also for a new connection.
+    {
+      Database::Transaction transaction(db.get());
+      db->WriteTwoViewGeometry(row);
+      transaction.Commit();
+    }
+  }
+  EXPECT_TRUE(Database::Open(path, true)->ReadTwoViewGeometry(p14).has_value());
+  EXPECT_TRUE(MadsfmTables(path).count("madsfm_backup_two_view_geometries"));
+  EXPECT_EQ(IntegrityCheck(path), "ok");
+}
+
+TEST_F(SyntheticDatabase, BusyDatabaseTimesOut) {
+  const std::string path = MakeDb("busy.db");
+  RawDb other(path);
+  other.Exec("BEGIN IMMEDIATE");  // another writer holds the lock
+  auto db = Database::Open(path, false, /*busy_timeout_ms=*/200);
+  const auto start = std::chrono::steady_clock::now();
+  ExpectErrorContaining([&] { Database::Transaction transaction(db.get()); }, {"busy.db", "locked"});
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_GE(waited, 0.15);
+  EXPECT_EQ(db->ReadImages().size(), 5u);  // reading is not blocked
+  other.Exec("COMMIT");
+  Database::Transaction transaction(db.get());  // now it works
+  transaction.Commit();
+}
+
+// ---------------------------------------------------------------------------------------------------------------
+// madsfm's own table and camera updates.
+
+TEST_F(SyntheticDatabase, MadsfmPairsReplaceAndReadBack) {
+  const std::string path = MakeDb("madsfm.db");
+  auto db = Database::Open(path);
+  EXPECT_FALSE(db->ReadMadsfmPair(ImagePairToPairId(1, 2)).has_value());  // no table yet
+  EXPECT_TRUE(db->ReadMadsfmPairs().empty());
+  db->CreateMadsfmTables();
+  db->CreateMadsfmTables();  // idempotent
+  db->WriteMadsfmPair(MakeMadsfmRow(ImagePairToPairId(2, 3), 1));
+  db->WriteMadsfmPair(MakeMadsfmRow(ImagePairToPairId(1, 2), 2));
+  MadsfmPairRow failed = MakeMadsfmRow(ImagePairToPairId(2, 3), 3);
+  failed.status = 1;
+  db->WriteMadsfmPair(failed);  // replaces
+  const auto rows = db->ReadMadsfmPairs();
+  ASSERT_EQ(rows.size(), 2u);
+  ExpectSameMadsfmRow(rows[0], MakeMadsfmRow(ImagePairToPairId(1, 2), 2));
+  ExpectSameMadsfmRow(rows[1], failed);
+  ExpectSameMadsfmRow(*db->ReadMadsfmPair(ImagePairToPairId(2, 3)), failed);
+  EXPECT_FALSE(db->ReadMadsfmPair(ImagePairToPairId(3, 4)).has_value());
+  // Restoring with only madsfm rows written (no two_view_geometries writes) changes nothing of COLMAP's.
+  const auto before = SnapshotColmapTables(path);
+  EXPECT_EQ(db->RestoreTwoViewGeometries(), 0);
+  EXPECT_EQ(SnapshotColmapTables(path), before);
+  EXPECT_TRUE(MadsfmTables(path).empty());
+}
+
+TEST_F(SyntheticDatabase, ConcurrentReadersShareOneConnection) {
+  const std::string path = MakeDb("threads.db");
+  auto db = Database::Open(path, /*read_only=*/true);
+  const int kThreads = 4, kRounds = 50;
+  std::vector<int> mismatches(kThreads, 0);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([&, t] {
+      for (int round = 0; round < kRounds; ++round) {
+        for (const auto& [image_id, kp] : expected_.keypoints) mismatches[t] += db->ReadKeypoints(image_id) != kp;
+        for (const auto& [pair_id, m] : expected_.matches) mismatches[t] += db->ReadMatches(pair_id) != m;
+      }
+    });
+  }
+  for (auto& thread : threads) thread.join();
+  int total = 0;
+  for (int m : mismatches) total += m;
+  std::printf("[ rates    ] %d threads x %d rounds of all keypoints + matches through one connection: %d mismatches\n",
+              kThreads, kRounds, total);
+  EXPECT_EQ(total, 0);
+}
+
+}  // namespace
+}  // namespace madsfm::colmap
