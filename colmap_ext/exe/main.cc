@@ -12,6 +12,7 @@
 #include "colmap_ext/exe/import_pair_command.h"
 #include "colmap_ext/exe/mapper_command.h"
 #include "colmap_ext/exe/model_compare_command.h"
+#include "colmap_ext/exe/render_scene_command.h"
 #include "colmap_ext/exe/seed_model.h"
 #include "colmap_ext/exe/synth_command.h"
 #include "colmap_ext/exe/two_view_estimator.h"
@@ -36,6 +37,7 @@ const std::vector<Command>& Commands() {
       {"bench", madsfm::RunBench, "Run methods over many pair directories -> accuracy/runtime tables, CSV"},
       {"import_pair", madsfm::RunImportPair, "Pair directory -> COLMAP project (database, images, depth sidecars)"},
       {"model_compare", madsfm::RunModelCompare, "Sparse model vs ground-truth poses: registered, rotation/focal errors"},
+      {"render_scene", madsfm::RunRenderScene, "Render the multi-view demo scene: images, depth priors, ground truth"},
       {"synth", madsfm::RunSynth, "Write synthetic two-view pair directories with ground truth"},
   };
   return commands;
