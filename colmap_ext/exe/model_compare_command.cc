@@ -81,8 +81,10 @@ int RunModelCompare(int argc, char** argv) {
       "and focal lengths given as JSON {\"images\": [{\"name\": ..., \"R\": [9, row-major], \"t\": [3], \"f\": px}]}.\n"
       "Images are matched by name. Prints the number of ground-truth and registered images, the median / max\n"
       "relative-rotation error and relative-translation-direction error over all pairs of registered images\n"
-      "(both need no alignment; the translation error compares t_ij = R_j (c_i - c_j)), the median / max focal\n"
-      "error |f - f_gt| / f_gt, the number of 3-D points and the mean of their reprojection errors.");
+      "(both need no alignment; the translation error is the angle between the model's and the ground truth's\n"
+      "t_ij = R_j (c_i - c_j), the larger of it and the same for t_ji), the median / max focal error\n"
+      "|f - f_gt| / f_gt (f: the model camera's f, or the mean of fx and fy), the number of 3-D points and the\n"
+      "mean of their reprojection errors. Exit code 1 on bad options or unreadable / malformed files.");
   parser.AddRequired("input_path", &input_path, "COLMAP model directory (cameras/images/points3D .bin or .txt).");
   parser.AddRequired("ground_truth_path", &ground_truth_path, "Ground-truth JSON file.");
   parser.AddDefault("output_format", &output_format, "text | json.");

@@ -10,7 +10,6 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 #include <type_traits>
 
@@ -28,10 +27,13 @@ namespace fs = std::filesystem;
 }
 
 std::string ReadWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) Fail(path, "cannot open file");
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) Fail(path, "read error");
+  const std::streamoff size = in.tellg();
+  if (size < 0) Fail(path, "cannot determine the file size");
+  std::string bytes(static_cast<size_t>(size), '\0');
+  in.seekg(0);
+  if (!in.read(bytes.data(), size)) Fail(path, "read error");
   return bytes;
 }
 
@@ -197,9 +199,15 @@ void ReadPoints3DBinary(const std::string& path, Reconstruction* model) {
 
 std::vector<std::string> SplitWhitespace(const std::string& line) {
   std::vector<std::string> tokens;
-  std::istringstream is(line);
-  std::string token;
-  while (is >> token) tokens.push_back(token);
+  size_t pos = 0;
+  while (true) {
+    pos = line.find_first_not_of(" \t\r\n", pos);
+    if (pos == std::string::npos) break;
+    const size_t end = line.find_first_of(" \t\r\n", pos);
+    tokens.push_back(line.substr(pos, end == std::string::npos ? std::string::npos : end - pos));
+    if (end == std::string::npos) break;
+    pos = end;
+  }
   return tokens;
 }
 
@@ -384,34 +392,57 @@ void ReadPoints3DText(const std::string& path, Reconstruction* model) {
 // Cross-file references: cameras of images, 3-D points of points2D, and tracks.
 void CheckConsistency(const Reconstruction& model, const std::string& cameras_path, const std::string& images_path,
                       const std::string& points_path) {
+  const std::string cameras_file = fs::path(cameras_path).filename().string();
+  const std::string images_file = fs::path(images_path).filename().string();
+  const std::string points_file = fs::path(points_path).filename().string();
+  size_t num_observations = 0;
+  std::map<uint32_t, std::vector<bool>> claimed;  // points2D already claimed by a track element
   for (const auto& [image_id, image] : model.images) {
     if (model.cameras.count(image.camera_id) == 0) {
       Fail(images_path, "image " + std::to_string(image_id) + " uses camera " + std::to_string(image.camera_id) +
-                            ", which " + fs::path(cameras_path).filename().string() + " does not contain");
+                            ", which " + cameras_file + " does not contain");
     }
-    for (size_t k = 0; k < image.point3D_ids.size(); ++k) {
-      const uint64_t id = image.point3D_ids[k];
-      if (id != kInvalidPoint3DId && model.points3D.count(id) == 0) {
-        Fail(images_path, "image " + std::to_string(image_id) + " point2D " + std::to_string(k) +
-                              " refers to 3-D point " + std::to_string(id) + ", which " +
-                              fs::path(points_path).filename().string() + " does not contain");
-      }
-    }
+    for (const uint64_t id : image.point3D_ids) num_observations += id != kInvalidPoint3DId;
+    claimed[image_id].assign(image.point3D_ids.size(), false);
   }
+  // Every track element must name a distinct point2D that refers back to its 3-D point.
+  size_t num_track_elements = 0;
   for (const auto& [point_id, point] : model.points3D) {
     for (const auto& [image_id, point2D_idx] : point.track) {
       const auto it = model.images.find(image_id);
       if (it == model.images.end()) {
         Fail(points_path, "3-D point " + std::to_string(point_id) + " is observed in image " +
-                              std::to_string(image_id) + ", which " + fs::path(images_path).filename().string() +
-                              " does not contain");
+                              std::to_string(image_id) + ", which " + images_file + " does not contain");
       }
       if (point2D_idx >= it->second.point3D_ids.size() || it->second.point3D_ids[point2D_idx] != point_id) {
         Fail(points_path, "3-D point " + std::to_string(point_id) + " track element (" + std::to_string(image_id) +
                               ", " + std::to_string(point2D_idx) + ") does not match point2D " +
-                              std::to_string(point2D_idx) + " of that image in " +
-                              fs::path(images_path).filename().string());
+                              std::to_string(point2D_idx) + " of that image in " + images_file);
       }
+      std::vector<bool>& flags = claimed[image_id];
+      if (flags[point2D_idx]) {
+        Fail(points_path, "3-D point " + std::to_string(point_id) + " lists track element (" +
+                              std::to_string(image_id) + ", " + std::to_string(point2D_idx) + ") twice");
+      }
+      flags[point2D_idx] = true;
+      ++num_track_elements;
+    }
+  }
+  // Track elements map one-to-one onto points2D with a 3-D point; if some of those are unclaimed, name one.
+  if (num_track_elements == num_observations) return;
+  for (const auto& [image_id, image] : model.images) {
+    const std::vector<bool>& flags = claimed[image_id];
+    for (size_t k = 0; k < image.point3D_ids.size(); ++k) {
+      const uint64_t id = image.point3D_ids[k];
+      if (id == kInvalidPoint3DId || flags[k]) continue;
+      if (model.points3D.count(id) == 0) {
+        Fail(images_path, "image " + std::to_string(image_id) + " point2D " + std::to_string(k) +
+                              " refers to 3-D point " + std::to_string(id) + ", which " + points_file +
+                              " does not contain");
+      }
+      Fail(images_path, "image " + std::to_string(image_id) + " point2D " + std::to_string(k) +
+                            " refers to 3-D point " + std::to_string(id) + ", whose track in " + points_file +
+                            " does not list it");
     }
   }
 }

@@ -14,14 +14,17 @@
 //  2. x = 2^e y balances |c_0| and |c_n| 2^(e n) (the roots' geometric mean becomes ~1), and a power
 //     of two scales max |a_k| to ~1: exact, and it keeps intermediate values in range.
 //  3. Fujiwara's bound on the roots and on their inverses gives L < |y| < U.
-//  4. Sturm sequence counts on (-U, -L) and (L, U), split at geometric means while an interval
-//     spans a factor > 4 and at midpoints after that, isolate the roots. The counts only guide the
-//     search: an interval where p changes sign always yields a root; one whose count says "roots" but
-//     where p keeps its sign is examined at the extremum of p (even multiplicity, or a close pair).
-//  5. Each root is polished by Laguerre's method kept inside its bracket, and reported only if
-//     |p(x)| <= kResidualTol * sum_k |c_k x^k|.
-//  6. When the Sturm chain shows near-multiple roots, the extrema of p are checked as well, so that a
-//     double root that rounding turned into a close complex pair is still reported.
+//  4. Sturm counts on (-U, -L) and (L, U), split at geometric means while an interval spans a factor
+//     > 4 and at midpoints after that, isolate the roots (breadth first, so that the evaluations of a
+//     round overlap). The counts only guide the search: an interval where p changes sign always
+//     yields a root; one whose count says "roots" but where p keeps its sign is examined at the
+//     extremum of p (even multiplicity, or a close pair).
+//  5. When the Sturm chain's estimated error is too large (near-multiple roots, clusters, roots on
+//     scales far apart), the roots are isolated by the extrema of p instead: the real roots of p'
+//     (recursively) cut the line into pieces where p is monotone; a local minimum of |p| that passes
+//     the residual check is a (near-)double root.
+//  6. All isolated roots are polished together (4 per vector, lock step) by Laguerre / Halley steps
+//     kept inside their brackets, and reported only if |p(x)| <= kResidualTol * sum_k |c_k x^k|.
 
 namespace madsfm {
 namespace {

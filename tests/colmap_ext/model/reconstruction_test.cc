@@ -587,11 +587,25 @@ TEST(ReconstructionTest, MissingFilesAndBrokenReferencesThrow) {
   point.track[0].second = 100000;
   WriteReconstructionBinary(bad, tmp.path());
   ExpectThrowsMentioning([&] { ReadReconstruction(tmp.path()); }, "points3D.bin: 3-D point");
-  // point2D referring to a 3-D point that does not exist.
+  // A track listing the same element twice.
   bad = model;
-  bad.images.begin()->second.point3D_ids[0] = 123456789;
+  ModelPoint3D& twice = bad.points3D.begin()->second;
+  twice.track.push_back(twice.track[0]);
+  WriteReconstructionBinary(bad, tmp.path());
+  ExpectThrowsMentioning([&] { ReadReconstruction(tmp.path()); }, "twice");
+  // An untriangulated point2D made to refer to a 3-D point that does not exist, or whose track does not list it.
+  bad = model;
+  ModelImage& image = bad.images.begin()->second;
+  size_t free_idx = 0;
+  while (image.point3D_ids[free_idx] != kInvalidPoint3DId) ++free_idx;
+  image.point3D_ids[free_idx] = 123456789;
   WriteReconstructionText(bad, tmp.Sub("t"));
-  ExpectThrowsMentioning([&] { ReadReconstruction(tmp.Sub("t")); }, "images.txt: image 3 point2D 0 refers to 3-D");
+  ExpectThrowsMentioning([&] { ReadReconstruction(tmp.Sub("t")); },
+                         "images.txt: image 3 point2D " + std::to_string(free_idx) +
+                             " refers to 3-D point 123456789, which points3D.txt does not contain");
+  image.point3D_ids[free_idx] = bad.points3D.begin()->first;
+  WriteReconstructionText(bad, tmp.Sub("t"));
+  ExpectThrowsMentioning([&] { ReadReconstruction(tmp.Sub("t")); }, "whose track in points3D.txt does not list it");
 }
 
 TEST(ReconstructionTest, WritersRejectUnrepresentableModels) {
