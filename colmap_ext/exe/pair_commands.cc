@@ -151,6 +151,10 @@ int RunPair(int argc, char** argv) {
     PairReadOptions read_options;
     read_options.allow_missing_depth = true;
     const PairData pair = ReadPairDirectory(pair_path, read_options);
+    if (pair.p0.size() < 5) {
+      throw std::runtime_error("pair directory '" + pair_path + "' has " + std::to_string(pair.p0.size()) +
+                               " matches (at least 5 needed)");
+    }
     const PairResult r = EvaluatePair(pair, mode, method, flags.options);
     for (const std::string& note : r.notes) std::fprintf(stderr, "madsfm pair: note: %s\n", note.c_str());
     std::cout << ResultJson(r).dump(2) << std::endl;

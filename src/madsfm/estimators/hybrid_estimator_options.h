@@ -58,6 +58,12 @@ struct HybridEstimatorOptions {
   // so this wins wherever the epipolar geometry is well conditioned; docs/benchmarks.md measures it.
   double final_reprojection_weight = 0.0;
 
+  // Calibrated hybrid only: a point-only LO-MSAC run (5pt, Sampson score) competes with the hybrid
+  // result; if it finds at least this many times the hybrid model's epipolar inliers, the depth priors
+  // have dragged the hybrid model away from the epipolar evidence and the point model's pose is taken
+  // (scale and shifts refitted). 0 disables the check. See docs/benchmarks.md.
+  double epipolar_check_ratio = 1.05;
+
   // Seed of the random sampler: the same seed gives the same result.
   uint64_t seed = 0;
 
@@ -76,6 +82,7 @@ struct HybridEstimate {
   int iterations = 0;
   int num_lo = 0;
   int num_depth_samples = 0, num_point_samples = 0;  // minimal samples drawn per solver
+  bool epipolar_check_switched = false;  // the point-only competitor won (epipolar_check_ratio)
   double runtime_ms = 0.0;
 };
 

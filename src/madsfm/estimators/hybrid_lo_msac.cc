@@ -234,8 +234,45 @@ HybridEstimate Engine::Run() {
 
 HybridEstimate EstimateHybridRelpose(const RelposeProblem& problem, const HybridEstimatorOptions& options) {
   options.Check();
+  const auto start = std::chrono::steady_clock::now();
   Engine engine(problem, options);
-  return engine.Run();
+  HybridEstimate result = engine.Run();
+  const bool check = options.epipolar_check_ratio > 0 && problem.mode == CameraMode::kCalibrated &&
+                     options.solvers == SolverChoice::kHybrid && options.scoring == ScoringMode::kHybrid &&
+                     result.success;
+  if (check) {
+    HybridEstimatorOptions po = options;
+    po.solvers = SolverChoice::kPointsOnly;
+    po.scoring = ScoringMode::kSampsonOnly;
+    Engine points(problem, po);
+    HybridEstimate competitor = points.Run();
+    if (competitor.success &&
+        competitor.num_inliers_sampson >= options.epipolar_check_ratio * result.num_inliers_sampson) {
+      // Keep the point model's pose and focal lengths; its scale and shifts were fitted on its epipolar
+      // inliers. Report the inliers of all three data types under the hybrid thresholds.
+      const MsacWeights w = MsacWeights::FromOptions(options);
+      InlierSets in;
+      ComputeInliers(problem, competitor.model, w, &in);
+      result.model = competitor.model;
+      result.score = ScoreModel(problem, competitor.model, w);
+      const int n = problem.size();
+      result.inliers_reproj0.assign(n, 0);
+      result.inliers_reproj1.assign(n, 0);
+      result.inliers_sampson.assign(n, 0);
+      for (int i : in.reproj0) result.inliers_reproj0[i] = 1;
+      for (int i : in.reproj1) result.inliers_reproj1[i] = 1;
+      for (int i : in.sampson) result.inliers_sampson[i] = 1;
+      result.num_inliers_reproj0 = static_cast<int>(in.reproj0.size());
+      result.num_inliers_reproj1 = static_cast<int>(in.reproj1.size());
+      result.num_inliers_sampson = static_cast<int>(in.sampson.size());
+      result.epipolar_check_switched = true;
+    }
+    result.iterations += competitor.iterations;
+    result.num_point_samples += competitor.num_point_samples;
+    result.num_lo += competitor.num_lo;
+  }
+  result.runtime_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return result;
 }
 
 }  // namespace madsfm
