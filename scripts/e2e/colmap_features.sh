@@ -7,11 +7,13 @@
 #      f = 1.2 max(W, H) and stores prior_focal_length = 0), keypoints, descriptors, matches and verified
 #      two-view geometries; logs in PROJECT_DIR/logs/. Quiet on success; on failure prints the log and exits 1.
 #
-# Headless: COLMAP 3.8 (/usr/bin/colmap, Debian build without CUDA) only creates a QApplication / OpenGL context
-# for SIFT when --SiftExtraction.use_gpu / --SiftMatching.use_gpu is 1; with use_gpu 0 (CPU SIFT, VLFeat) neither
-# command needs a display. QT_QPA_PLATFORM=offscreen is exported anyway so that nothing Qt-related can try to
-# open an X11 connection (without it a Qt platform plugin lookup fails with "could not connect to display").
-# COLMAP env: COLMAP (binary, default colmap), NUM_THREADS (default -1 = all cores).
+# Headless (checked with COLMAP 3.8, /usr/bin/colmap, Debian build without CUDA, no X server): SIFT on the GPU
+# (the default --SiftExtraction.use_gpu 1 / --SiftMatching.use_gpu 1) needs a Qt application and an OpenGL
+# context and aborts (SIGABRT) without a display: "could not connect to display" from Qt's xcb plugin, or with
+# QT_QPA_PLATFORM=offscreen "Check failed: context_.create()" in opengl_utils.cc. With use_gpu 0 (CPU SIFT,
+# VLFeat) neither command creates a Qt application or a GL context, so no display, Xvfb or GPU is needed.
+# QT_QPA_PLATFORM=offscreen is exported as well, so that no Qt code path tries to reach an X server.
+# Environment: COLMAP (binary, default colmap), NUM_THREADS (default -1 = all cores).
 set -euo pipefail
 
 if [[ $# -ne 1 ]]; then
