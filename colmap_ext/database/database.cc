@@ -739,4 +739,15 @@ void Database::UpdateCamera(const Camera& camera) {
   transaction.Commit();
 }
 
+std::vector<std::string> Database::ListTables() const {
+  std::vector<std::string> tables;
+  sqlite3_stmt* st = nullptr;
+  if (sqlite3_prepare_v2(db_, "SELECT name FROM sqlite_master WHERE type = 'table'", -1, &st, nullptr) != SQLITE_OK) {
+    throw std::runtime_error("'" + path_ + "': cannot list tables: " + sqlite3_errmsg(db_));
+  }
+  while (sqlite3_step(st) == SQLITE_ROW) tables.emplace_back(reinterpret_cast<const char*>(sqlite3_column_text(st, 0)));
+  sqlite3_finalize(st);
+  return tables;
+}
+
 }  // namespace madsfm::colmap

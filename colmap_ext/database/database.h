@@ -145,6 +145,9 @@ class Database {
   // stored one or has the wrong number of params.
   void UpdateCamera(const Camera& camera);
 
+  // Names of all tables in the database.
+  std::vector<std::string> ListTables() const;
+
   sqlite3* handle() const { return db_; }
 
  private:

@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -201,6 +202,25 @@ std::set<std::pair<std::string, std::string>> ReadPairListFile(const std::string
   return pairs;
 }
 
+bool TableExists(const colmap::Database& db, const std::string& table) {
+  for (const std::string& t : db.ListTables()) {
+    if (t == table) return true;
+  }
+  return false;
+}
+
+void CheckMatches(const std::string& db_path, pair_t pair_id, image_t i1, image_t i2,
+                  const std::vector<std::array<uint32_t, 2>>& matches, size_t n1, size_t n2) {
+  for (const auto& m : matches) {
+    if (m[0] >= n1 || m[1] >= n2) {
+      throw std::runtime_error("database '" + db_path + "': matches of pair " + std::to_string(pair_id) +
+                               " (images " + std::to_string(i1) + ", " + std::to_string(i2) +
+                               ") point past the keypoints (" + std::to_string(m[0]) + ", " + std::to_string(m[1]) +
+                               " vs " + std::to_string(n1) + ", " + std::to_string(n2) + " keypoints)");
+    }
+  }
+}
+
 void PrintProgress(int done, int total, double elapsed, bool tty) {
   if (total <= 0) return;
   const double rate = elapsed > 0 ? done / elapsed : 0.0;
@@ -238,6 +258,9 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
   const colmap::DepthType depth_type = colmap::ParseDepthType(options.depth_type);
   if (options.batch_size < 1) throw std::invalid_argument("--batch_size must be >= 1");
   const std::string fingerprint = OptionsFingerprint(options);
+  if (!options.depth_path.empty() && !std::filesystem::is_directory(options.depth_path)) {
+    throw std::runtime_error("--depth_path '" + options.depth_path + "' is not a folder");
+  }
 
   auto db = colmap::Database::Open(options.database_path, /*read_only=*/false);
   const std::vector<colmap::Camera> cameras = db->ReadCameras();
@@ -265,13 +288,15 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
   // Which pairs still need work (resume), and which images they touch.
   std::vector<pair_t> todo;
   std::set<image_t> needed;
-  db->CreateMadsfmTables();
+  // Nothing is written before every input has been read and checked: a rejected run leaves the database
+  // exactly as it was (docs/robustness.md).
+  const bool have_results = TableExists(*db, "madsfm_two_view_geometries");
   for (const auto& [pair_id, num_matches] : pairs) {
     if (num_matches < options.min_num_matches) {
       ++summary.num_skipped_few_matches;
       continue;
     }
-    if (!options.overwrite) {
+    if (!options.overwrite && have_results) {
       const auto done = db->ReadMadsfmPair(pair_id);
       if (done && done->options_fingerprint == fingerprint) {
         ++summary.num_skipped_done;
@@ -325,8 +350,19 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
   summary.num_images = static_cast<int>(needed.size());
   summary.read_seconds += Seconds(t_read, Clock::now());
 
+  // Check every pair's match indices against the keypoints before the first write.
+  const auto t_check = Clock::now();
+  for (pair_t pair_id : todo) {
+    image_t i1, i2;
+    colmap::PairIdToImagePair(pair_id, &i1, &i2);
+    CheckMatches(options.database_path, pair_id, i1, i2, db->ReadMatches(pair_id), images[i1].normalized.size(),
+                 images[i2].normalized.size());
+  }
+  summary.read_seconds += Seconds(t_check, Clock::now());
+
   if (!todo.empty()) {
     colmap::Database::Transaction txn(db.get());
+    db->CreateMadsfmTables();
     db->BackupTwoViewGeometries();
     txn.Commit();
   }
@@ -351,16 +387,6 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
       job.image2 = &images[i2];
       job.mode = PairMode(options.camera_mode, *job.image1->camera, *job.image2->camera);
       job.matches = db->ReadMatches(job.pair_id);
-      const size_t n1 = job.image1->normalized.size(), n2 = job.image2->normalized.size();
-      for (const auto& m : job.matches) {
-        if (m[0] >= n1 || m[1] >= n2) {
-          throw std::runtime_error("database '" + options.database_path + "': matches of pair " +
-                                   std::to_string(job.pair_id) + " (images " + std::to_string(i1) + ", " +
-                                   std::to_string(i2) + ") point past the keypoints (" + std::to_string(m[0]) +
-                                   ", " + std::to_string(m[1]) + " vs " + std::to_string(n1) + ", " +
-                                   std::to_string(n2) + " keypoints)");
-        }
-      }
     }
     const auto t1 = Clock::now();
     summary.read_seconds += Seconds(t0, t1);
