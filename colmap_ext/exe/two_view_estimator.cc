@@ -448,6 +448,7 @@ int RunTwoViewEstimator(int argc, char** argv) {
   parser.AddDefault("overwrite", &o.overwrite, "Re-estimate pairs already done with the same options.");
   parser.AddDefault("min_num_matches", &o.min_num_matches, "Pairs with fewer raw matches are skipped.");
   parser.AddDefault("min_num_inliers", &o.min_num_inliers, "Fewer inliers: the pair keeps COLMAP's row.");
+  parser.AddDefault("batch_size", &o.batch_size, "Pairs per write transaction (a kill loses at most one batch).");
   parser.AddDefault("reproj_threshold", &o.estimator.reproj_threshold,
                     "Reprojection inlier threshold, px (paper: 8 indoor ~640 px images, 16 outdoor/large).");
   parser.AddDefault("epipolar_threshold", &o.estimator.epipolar_threshold, "Sampson inlier threshold, px.");
