@@ -8,6 +8,7 @@ PACKAGES=(
   nlohmann-json3-dev libsqlite3-dev sqlite3 zlib1g-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   colmap python3-numpy
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

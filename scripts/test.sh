@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite: installs dependencies, builds, runs every test with ctest; then builds the core
 # library and its unit tests a second time with AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/)
-# and runs them there too.
+# and runs them there too; then fuzzes the file parsers for a minute each (libFuzzer, scripts/fuzz.sh).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD_DIR="${BUILD_DIR:-$ROOT/build}"
@@ -19,4 +19,9 @@ if [ "${MADSFM_SKIP_ASAN:-0}" != "1" ]; then
   (cd "$ASAN_DIR" && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --output-on-failure -j "$(nproc)" \
     -R '^(madsfm/(solvers|geometry|refinement|estimators|io)|colmap_ext/(database|camera))/')
+fi
+
+if [ "${MADSFM_SKIP_FUZZ:-0}" != "1" ]; then
+  echo "== fuzzing: libFuzzer on the .npy / depth-file / pair-directory / sparse-model / database-blob parsers"
+  bash "$ROOT/scripts/fuzz.sh" "${MADSFM_FUZZ_SECONDS:-60}"
 fi

@@ -278,9 +278,10 @@ Dtype ParseDescr(const std::string& descr, const std::string& what, const std::s
   const std::string size_text = descr.substr(pos);
   int size = 0;
   bool size_ok = !size_text.empty() && size_text.size() <= 3;
-  for (const char c : size_text) {
+  for (size_t i = 0; size_ok && i < size_text.size(); ++i) {  // at most 3 digits: no overflow
+    const char c = size_text[i];
     if (c < '0' || c > '9') size_ok = false;
-    size = size * 10 + (c - '0');
+    else size = size * 10 + (c - '0');
   }
   if (!size_ok) size = -1;
   dtype.size = size;
