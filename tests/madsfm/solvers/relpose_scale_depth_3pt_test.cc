@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "madsfm/solvers/affine_depth_solver_utils.h"
+#include "testing/solver_corruptions.h"
 #include "testing/solver_instances.h"
 
 namespace madsfm {
@@ -23,15 +24,9 @@ using testing::MinModelError;
 using testing::SolverInstance;
 using testing::SolverInstanceOptions;
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// A named change of a valid instance into a degenerate one.
-struct Corruption {
-  const char* name;
-  bool must_be_empty;  // the solver must return 0 solutions (otherwise: 0 or valid ones)
-  void (*apply)(SolverInstance*);
-};
+using testing::Corruption;
+using testing::kInf;
+using testing::kNaN;
 
 SolverInstanceOptions ScaleOnlyOptions() {
   SolverInstanceOptions opt;
