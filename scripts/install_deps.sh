@@ -9,6 +9,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   colmap python3-numpy
   clang libclang-rt-14-dev
+  pybind11-dev python3-dev python3-pytest
+  slurmctld slurmd slurm-client munge
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

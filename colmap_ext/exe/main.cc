@@ -11,6 +11,7 @@
 #include "colmap_ext/exe/focal_estimator.h"
 #include "colmap_ext/exe/import_pair_command.h"
 #include "colmap_ext/exe/mapper_command.h"
+#include "colmap_ext/exe/merge_shards_command.h"
 #include "colmap_ext/exe/model_compare_command.h"
 #include "colmap_ext/exe/render_scene_command.h"
 #include "colmap_ext/exe/seed_model.h"
@@ -30,6 +31,7 @@ const std::vector<Command>& Commands() {
       {"mapper", madsfm::RunMapper, "The whole pipeline: two_view_estimator, focal_estimator, seed_model, colmap mapper"},
       {"two_view_estimator", madsfm::RunTwoViewEstimator,
        "Hybrid affine-depth estimation of every matched pair -> two-view geometries in the database"},
+      {"merge_shards", madsfm::RunMergeShards, "Merge two_view_estimator shard files (cluster runs) into the database"},
       {"focal_estimator", madsfm::RunFocalEstimator, "Per-camera focal lengths from the pairwise estimates"},
       {"seed_model", madsfm::RunSeedModel, "Initial pair -> two-image sparse model for colmap mapper --input_path"},
       {"restore", madsfm::RunRestore, "Put COLMAP's original two-view geometries and cameras back"},
@@ -39,6 +41,7 @@ const std::vector<Command>& Commands() {
       {"model_compare", madsfm::RunModelCompare, "Sparse model vs ground-truth poses: registered, rotation/focal errors"},
       {"render_scene", madsfm::RunRenderScene, "Render the multi-view demo scene: images, depth priors, ground truth"},
       {"synth", madsfm::RunSynth, "Write synthetic two-view pair directories with ground truth"},
+      {"synth_project", madsfm::RunSynthProject, "Write a synthetic COLMAP project (database + depth sidecars)"},
   };
   return commands;
 }

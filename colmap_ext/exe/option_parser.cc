@@ -72,6 +72,14 @@ void OptionParser::AddMulti(const std::string& name, std::vector<std::string>* v
                       }});
 }
 
+void OptionParser::AddPositional(const std::string& name, std::vector<std::string>* values, bool required,
+                                 const std::string& help) {
+  positional_ = values;
+  positional_name_ = name;
+  positional_help_ = help;
+  positional_required_ = required;
+}
+
 OptionParser::Option* OptionParser::Find(const std::string& name) {
   for (auto& o : options_)
     if (o.name == name) return &o;
@@ -80,7 +88,11 @@ OptionParser::Option* OptionParser::Find(const std::string& name) {
 
 std::string OptionParser::Help() const {
   std::ostringstream os;
-  os << "Usage: madsfm " << command_ << " [options]\n\n" << description_ << "\n\nOptions:\n";
+  os << "Usage: madsfm " << command_ << " [options]";
+  if (positional_) os << " " << positional_name_ << "...";
+  os << "\n\n" << description_ << "\n\n";
+  if (positional_) os << "Arguments:\n  " << positional_name_ << "...\n      " << positional_help_ << "\n\n";
+  os << "Options:\n";
   os << "  --help\n      Print this help and exit.\n";
   for (const auto& o : options_) {
     os << "  --" << o.name << " " << o.type;
@@ -98,6 +110,10 @@ bool OptionParser::Parse(int argc, char** argv, int first) {
       help_requested_ = true;
       std::fputs(Help().c_str(), stdout);
       return true;
+    }
+    if (arg.rfind("--", 0) != 0 && positional_) {
+      positional_->push_back(arg);
+      continue;
     }
     if (arg.rfind("--", 0) != 0) {
       std::fprintf(stderr, "madsfm %s: unexpected argument '%s' (options are --name value; see --help)\n",
@@ -144,6 +160,10 @@ bool OptionParser::Parse(int argc, char** argv, int first) {
       std::fprintf(stderr, "madsfm %s: missing required option --%s (see --help)\n", command_.c_str(), o.name.c_str());
       return false;
     }
+  }
+  if (positional_ && positional_required_ && positional_->empty()) {
+    std::fprintf(stderr, "madsfm %s: missing %s... arguments (see --help)\n", command_.c_str(), positional_name_.c_str());
+    return false;
   }
   return true;
 }

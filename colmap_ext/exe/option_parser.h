@@ -21,6 +21,10 @@ class OptionParser {
   // An option that may be given several times or with several values (--pairs_path A B C).
   void AddMulti(const std::string& name, std::vector<std::string>* values, bool required, const std::string& help);
 
+  // Non-option arguments (`madsfm merge_shards --database_path DB a.sqlite b.sqlite`); without this call they are
+  // an error. Shown in --help as <name>...
+  void AddPositional(const std::string& name, std::vector<std::string>* values, bool required, const std::string& help);
+
   // Parses argv[first..argc). Returns true on success. On --help prints the help to stdout and
   // sets help_requested(); on error prints "madsfm <command>: <message>" to stderr.
   bool Parse(int argc, char** argv, int first = 1);
@@ -43,6 +47,9 @@ class OptionParser {
   std::string command_;
   std::string description_;
   std::vector<Option> options_;
+  std::vector<std::string>* positional_ = nullptr;
+  std::string positional_name_, positional_help_;
+  bool positional_required_ = false;
   bool help_requested_ = false;
 };
 

@@ -5,5 +5,7 @@
 namespace madsfm {
 
 int RunSynth(int argc, char** argv);
+// `madsfm synth_project`: a synthetic COLMAP project (database + depth sidecars), colmap_ext/synthetic.
+int RunSynthProject(int argc, char** argv);
 
 }  // namespace madsfm

@@ -22,6 +22,9 @@
 #include "colmap_ext/depth/keypoint_depths.h"
 #include "colmap_ext/exe/option_parser.h"
 #include "colmap_ext/model/reconstruction.h"
+#include "colmap_ext/shard/fingerprint.h"
+#include "colmap_ext/shard/shard_file.h"
+#include "colmap_ext/shard/shard_plan.h"
 #include "madsfm/estimators/estimate_relpose.h"
 #include "madsfm/estimators/hybrid_lo_msac.h"
 #include "madsfm/geometry/essential_matrix.h"
@@ -181,27 +184,6 @@ colmap::MadsfmPairRow MakeMadsfmRow(const PairJob& job, const std::string& finge
   return row;
 }
 
-std::set<std::pair<std::string, std::string>> ReadPairListFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("cannot read pair list '" + path + "'");
-  std::set<std::pair<std::string, std::string>> pairs;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream ls(line);
-    std::string a, b;
-    if (!(ls >> a >> b)) {
-      throw std::runtime_error("pair list '" + path + "' line " + std::to_string(line_no) +
-                               ": expected two image names");
-    }
-    pairs.insert({a, b});
-    pairs.insert({b, a});
-  }
-  return pairs;
-}
-
 bool TableExists(const colmap::Database& db, const std::string& table) {
   for (const std::string& t : db.ListTables()) {
     if (t == table) return true;
@@ -236,6 +218,36 @@ void PrintProgress(int done, int total, double elapsed, bool tty) {
 
 }  // namespace
 
+std::set<std::pair<std::string, std::string>> ReadImagePairList(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read pair list '" + path + "'");
+  std::set<std::pair<std::string, std::string>> pairs;
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ls(line);
+    std::string a, b;
+    if (!(ls >> a >> b)) {
+      throw std::runtime_error("pair list '" + path + "' line " + std::to_string(line_no) +
+                               ": expected two image names");
+    }
+    pairs.insert({a, b});
+    pairs.insert({b, a});
+  }
+  return pairs;
+}
+
+std::string FileFingerprint(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot read '" + path + "'");
+  colmap::Fingerprinter fp;
+  char buffer[1 << 16];
+  while (in.read(buffer, sizeof(buffer)) || in.gcount() > 0) fp.Add(buffer, static_cast<size_t>(in.gcount()));
+  return fp.Hex();
+}
+
 std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
   std::ostringstream s;
   s.precision(17);
@@ -250,6 +262,89 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
   return s.str();
 }
 
+namespace {
+
+// Where a batch of results goes: the database (single process) or a shard file.
+class ResultSink {
+ public:
+  virtual ~ResultSink() = default;
+  virtual void WriteBatch(const std::vector<PairJob>& jobs, const std::string& fingerprint) = 0;
+};
+
+class DatabaseSink : public ResultSink {
+ public:
+  explicit DatabaseSink(colmap::Database* db) : db_(db) {}
+  // A kill leaves either all of a batch or none of it.
+  void WriteBatch(const std::vector<PairJob>& jobs, const std::string& fingerprint) override {
+    colmap::Database::Transaction txn(db_);
+    for (const PairJob& job : jobs) {
+      if (job.ok) db_->WriteTwoViewGeometry(MakeGeometryRow(job));
+      db_->WriteMadsfmPair(MakeMadsfmRow(job, fingerprint));
+    }
+    txn.Commit();
+  }
+
+ private:
+  colmap::Database* db_;
+};
+
+class ShardSink : public ResultSink {
+ public:
+  explicit ShardSink(colmap::ShardFile* shard) : shard_(shard) {}
+  void WriteBatch(const std::vector<PairJob>& jobs, const std::string& fingerprint) override {
+    shard_->Begin();
+    for (const PairJob& job : jobs) {
+      colmap::ShardResult result;
+      if (job.ok) result.geometry = MakeGeometryRow(job);
+      result.madsfm = MakeMadsfmRow(job, fingerprint);
+      shard_->WriteResult(result);
+    }
+    shard_->Commit();
+  }
+
+ private:
+  colmap::ShardFile* shard_;
+};
+
+void CheckShardOptions(const TwoViewEstimatorOptions& o) {
+  if (o.num_shards < 1) throw std::invalid_argument("--num_shards must be >= 1");
+  if (o.shard_index < 0 || o.shard_index >= o.num_shards) {
+    throw std::invalid_argument("--shard_index " + std::to_string(o.shard_index) + " is not in [0, --num_shards = " +
+                                std::to_string(o.num_shards) + ")");
+  }
+  if (o.num_shards > 1 && o.shard_path.empty()) {
+    throw std::invalid_argument("--num_shards > 1 needs --shard_path (the database is only read when sharding)");
+  }
+}
+
+// Opens the shard file of a sharded run: a new one, or the one a killed task left (resume) when it was made from
+// the same database, options and split. Anything else is refused, naming the file.
+std::unique_ptr<colmap::ShardFile> OpenOrCreateShard(const TwoViewEstimatorOptions& o, const colmap::ShardInfo& info,
+                                                     const std::vector<pair_t>& assigned) {
+  if (std::filesystem::exists(o.shard_path)) {
+    if (o.overwrite) {
+      std::filesystem::remove(o.shard_path);
+    } else {
+      auto shard = colmap::ShardFile::Open(o.shard_path, /*read_only=*/false);
+      const colmap::ShardInfo& old = shard->info();
+      std::string why;
+      if (old.database_fingerprint != info.database_fingerprint) why = "another database (or the database changed)";
+      else if (old.options_fingerprint != info.options_fingerprint) why = "other options (" + old.options_fingerprint + ")";
+      else if (old.split_fingerprint != info.split_fingerprint || old.shard_index != info.shard_index) {
+        why = "another split (shard " + std::to_string(old.shard_index) + " of " + std::to_string(old.num_shards) + ")";
+      }
+      if (!why.empty()) {
+        throw std::runtime_error("shard file '" + o.shard_path + "' exists and was made from " + why +
+                                 "; delete it or pass --overwrite 1");
+      }
+      return shard;
+    }
+  }
+  return colmap::ShardFile::Create(o.shard_path, info, assigned);
+}
+
+}  // namespace
+
 TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& options) {
   const auto t_start = Clock::now();
   TwoViewEstimatorSummary summary;
@@ -257,12 +352,15 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
   if (options.camera_mode != "auto") ParseCameraMode(options.camera_mode);
   const colmap::DepthType depth_type = colmap::ParseDepthType(options.depth_type);
   if (options.batch_size < 1) throw std::invalid_argument("--batch_size must be >= 1");
+  CheckShardOptions(options);
+  const bool sharded = !options.shard_path.empty();
   const std::string fingerprint = OptionsFingerprint(options);
   if (!options.depth_path.empty() && !std::filesystem::is_directory(options.depth_path)) {
     throw std::runtime_error("--depth_path '" + options.depth_path + "' is not a folder");
   }
 
-  auto db = colmap::Database::Open(options.database_path, /*read_only=*/false);
+  // A sharded task only reads the database: many tasks read it at once, merge_shards writes.
+  auto db = colmap::Database::Open(options.database_path, /*read_only=*/sharded);
   const std::vector<colmap::Camera> cameras = db->ReadCameras();
   std::map<colmap::camera_t, const colmap::Camera*> camera_by_id;
   for (const auto& c : cameras) camera_by_id[c.camera_id] = &c;
@@ -272,7 +370,7 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
   // Pairs to estimate.
   std::vector<std::pair<pair_t, int>> pairs = db->ReadMatchedPairs();
   if (!options.pair_list.empty()) {
-    const auto allowed = ReadPairListFile(options.pair_list);
+    const auto allowed = ReadImagePairList(options.pair_list);
     std::vector<std::pair<pair_t, int>> kept;
     for (const auto& pr : pairs) {
       image_t i1, i2;
@@ -284,6 +382,42 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
     pairs = kept;
   }
   summary.num_pairs = static_cast<int>(pairs.size());
+  colmap::PairCounts candidates;
+  for (const auto& pr : pairs) {
+    if (pr.second < options.min_num_matches) ++summary.num_skipped_few_matches;
+    else candidates.push_back(pr);
+  }
+
+  // Sharded: this task's part of the split, and its shard file (resumed when a killed task left one).
+  std::unique_ptr<colmap::ShardFile> shard;
+  std::set<pair_t> done_in_shard;
+  if (sharded) {
+    const auto split = colmap::SplitPairsIntoShards(candidates, options.num_shards);
+    const std::vector<pair_t>& mine = split[options.shard_index];
+    colmap::ShardInfo info;
+    info.database_path = options.database_path;
+    info.database_fingerprint = colmap::DatabaseFingerprint(*db);
+    info.options_fingerprint = fingerprint;
+    info.split_fingerprint = colmap::SplitFingerprint(candidates, options.num_shards);
+    info.num_shards = options.num_shards;
+    info.shard_index = options.shard_index;
+    info.num_split_pairs = static_cast<long long>(candidates.size());
+    info.min_num_matches = options.min_num_matches;
+    if (!options.pair_list.empty()) {
+      info.pair_list_path = std::filesystem::absolute(options.pair_list).string();
+      info.pair_list_fingerprint = FileFingerprint(options.pair_list);
+    }
+    info.madsfm_version = MADSFM_VERSION;
+    shard = OpenOrCreateShard(options, info, mine);
+    for (pair_t p : shard->ResultPairs()) done_in_shard.insert(p);
+    const std::set<pair_t> mine_set(mine.begin(), mine.end());
+    colmap::PairCounts kept;
+    for (const auto& pr : candidates) {
+      if (mine_set.count(pr.first)) kept.push_back(pr);
+    }
+    candidates = kept;
+    summary.num_shard_pairs = static_cast<int>(candidates.size());
+  }
 
   // Which pairs still need work (resume), and which images they touch.
   std::vector<pair_t> todo;
@@ -291,17 +425,17 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
   // Nothing is written before every input has been read and checked: a rejected run leaves the database
   // exactly as it was (docs/robustness.md).
   const bool have_results = TableExists(*db, "madsfm_two_view_geometries");
-  for (const auto& [pair_id, num_matches] : pairs) {
-    if (num_matches < options.min_num_matches) {
-      ++summary.num_skipped_few_matches;
-      continue;
-    }
+  for (const auto& [pair_id, num_matches] : candidates) {
     if (!options.overwrite && have_results) {
       const auto done = db->ReadMadsfmPair(pair_id);
       if (done && done->options_fingerprint == fingerprint) {
         ++summary.num_skipped_done;
         continue;
       }
+    }
+    if (done_in_shard.count(pair_id)) {
+      ++summary.num_skipped_done;
+      continue;
     }
     image_t i1, i2;
     colmap::PairIdToImagePair(pair_id, &i1, &i2);
@@ -360,11 +494,17 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
   }
   summary.read_seconds += Seconds(t_check, Clock::now());
 
-  if (!todo.empty()) {
-    colmap::Database::Transaction txn(db.get());
-    db->CreateMadsfmTables();
-    db->BackupTwoViewGeometries();
-    txn.Commit();
+  std::unique_ptr<ResultSink> sink;
+  if (sharded) {
+    sink = std::make_unique<ShardSink>(shard.get());
+  } else {
+    if (!todo.empty()) {
+      colmap::Database::Transaction txn(db.get());
+      db->CreateMadsfmTables();
+      db->BackupTwoViewGeometries();
+      txn.Commit();
+    }
+    sink = std::make_unique<DatabaseSink>(db.get());
   }
 
   const int threads = options.num_threads > 0 ? options.num_threads
@@ -401,21 +541,16 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
     for (auto& t : pool) t.join();
     const auto t2 = Clock::now();
     summary.estimate_seconds += Seconds(t1, t2);
-    // Write the batch in one transaction: a kill leaves either all of it or none of it.
-    {
-      colmap::Database::Transaction txn(db.get());
-      for (const PairJob& job : jobs) {
-        summary.estimate_cpu_seconds += job.estimate.runtime_ms / 1000.0;
-        if (job.ok) {
-          db->WriteTwoViewGeometry(MakeGeometryRow(job));
-          ++summary.num_estimated;
-          summary.num_point_fallback += job.point_fallback;
-        } else {
-          ++summary.num_failed;
-        }
-        db->WriteMadsfmPair(MakeMadsfmRow(job, fingerprint));
+    // Write the batch in one transaction (database or shard file).
+    sink->WriteBatch(jobs, fingerprint);
+    for (const PairJob& job : jobs) {
+      summary.estimate_cpu_seconds += job.estimate.runtime_ms / 1000.0;
+      if (job.ok) {
+        ++summary.num_estimated;
+        summary.num_point_fallback += job.point_fallback;
+      } else {
+        ++summary.num_failed;
       }
-      txn.Commit();
     }
     summary.write_seconds += Seconds(t2, Clock::now());
     done += static_cast<int>(jobs.size());
@@ -449,6 +584,13 @@ int RunTwoViewEstimator(int argc, char** argv) {
   parser.AddDefault("min_num_matches", &o.min_num_matches, "Pairs with fewer raw matches are skipped.");
   parser.AddDefault("min_num_inliers", &o.min_num_inliers, "Fewer inliers: the pair keeps COLMAP's row.");
   parser.AddDefault("batch_size", &o.batch_size, "Pairs per write transaction (a kill loses at most one batch).");
+  parser.AddDefault("num_shards", &o.num_shards,
+                    "Split the pairs into this many shards, balanced by match count (docs/cluster.md).");
+  parser.AddDefault("shard_index", &o.shard_index, "Which shard this run estimates, 0 ... num_shards - 1.");
+  parser.AddDefault("shard_path", &o.shard_path,
+                    "Shard file (SQLite) to write instead of the database, which is then only read; a rerun\n"
+                    "      resumes it. Merge the shards with `madsfm merge_shards`.");
+  parser.AddDefault("progress", &o.progress, "Print progress to stderr.");
   parser.AddDefault("reproj_threshold", &o.estimator.reproj_threshold,
                     "Reprojection inlier threshold, px (paper: 8 indoor ~640 px images, 16 outdoor/large).");
   parser.AddDefault("epipolar_threshold", &o.estimator.epipolar_threshold, "Sampson inlier threshold, px.");
@@ -461,6 +603,10 @@ int RunTwoViewEstimator(int argc, char** argv) {
   o.estimator.seed = static_cast<uint64_t>(seed);
   try {
     const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(o);
+    if (!o.shard_path.empty()) {
+      std::printf("two_view_estimator: shard %d of %d: %d of the %d pairs to estimate -> %s\n", o.shard_index,
+                  o.num_shards, s.num_shard_pairs, s.num_pairs - s.num_skipped_few_matches, o.shard_path.c_str());
+    }
     std::printf("two_view_estimator: %d matched pairs: %d estimated (%d point-only for lack of depth), %d failed "
                 "(COLMAP's rows kept), %d already done, %d with < %d matches\n",
                 s.num_pairs, s.num_estimated, s.num_point_fallback, s.num_failed, s.num_skipped_done,

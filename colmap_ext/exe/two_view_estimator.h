@@ -2,7 +2,9 @@
 // written back as two-view geometries (issue 5), and `madsfm restore`.
 #pragma once
 
+#include <set>
 #include <string>
+#include <utility>
 
 #include "madsfm/estimators/hybrid_estimator_options.h"
 
@@ -20,6 +22,11 @@ struct TwoViewEstimatorOptions {
   int min_num_inliers = 15;          // fewer inliers: the pair keeps COLMAP's own row
   int batch_size = 256;              // pairs per write transaction
   bool progress = true;
+  // Sharding (docs/cluster.md): with shard_path set, the database is only read and the results of the pairs of
+  // shard shard_index (of num_shards, split by SplitPairsIntoShards) go to the shard file; merge_shards writes them.
+  int num_shards = 1;
+  int shard_index = 0;
+  std::string shard_path;
   HybridEstimatorOptions estimator;
 };
 
@@ -30,6 +37,7 @@ struct TwoViewEstimatorSummary {
   int num_failed = 0;          // no model / too few inliers: COLMAP's row kept
   int num_skipped_done = 0;    // already done with the same options (resume)
   int num_skipped_few_matches = 0;
+  int num_shard_pairs = 0;     // sharded runs: pairs of this shard (of num_pairs - num_skipped_few_matches)
   int num_images_with_depth = 0, num_images = 0;
   double read_seconds = 0, estimate_seconds = 0, write_seconds = 0, total_seconds = 0;
   double estimate_cpu_seconds = 0;  // summed per-pair estimator time
@@ -43,5 +51,11 @@ int RunRestore(int argc, char** argv);
 
 // The string stored with every pair result; a rerun with a different one re-estimates.
 std::string OptionsFingerprint(const TwoViewEstimatorOptions& options);
+
+// A --pair_list file: "name1 name2" per line ('#' comments), returned in both orders. Throws naming the file and
+// line when a line is malformed.
+std::set<std::pair<std::string, std::string>> ReadImagePairList(const std::string& path);
+// Fingerprint of a file's bytes (to tie shards to the pair list they were split from).
+std::string FileFingerprint(const std::string& path);
 
 }  // namespace madsfm

@@ -1,0 +1,46 @@
+// Writing a new COLMAP 3.8 database from scratch (cameras, images, keypoints, matches), for importers, the
+// synthetic projects of `madsfm synth_project` and tests. Existing databases are only ever changed through
+// Database (database.h); this class creates a file that did not exist.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+struct sqlite3;
+struct sqlite3_stmt;
+
+namespace madsfm::colmap {
+
+class DatabaseBuilder {
+ public:
+  // Creates `path` with the exact schema of `colmap database_creator` 3.8; throws std::runtime_error naming the
+  // file if it exists or cannot be created.
+  explicit DatabaseBuilder(const std::string& path);
+  ~DatabaseBuilder();
+  DatabaseBuilder(const DatabaseBuilder&) = delete;
+  DatabaseBuilder& operator=(const DatabaseBuilder&) = delete;
+
+  // Return the new row ids (cameras and images are numbered from 1 in insertion order).
+  uint32_t AddCamera(int model_id, int width, int height, const std::vector<double>& params, bool prior_focal);
+  uint32_t AddImage(const std::string& name, uint32_t camera_id);
+  // Keypoints in COLMAP's convention (pixel centres at +0.5), stored as rows x 6 float32 (x, y and an identity
+  // affine shape, as SIFT writes them).
+  void AddKeypoints(uint32_t image_id, const std::vector<Eigen::Vector2d>& keypoints);
+  // matches[i] = (keypoint of image_id1, keypoint of image_id2); stored with the smaller image id first.
+  void AddMatches(uint32_t image_id1, uint32_t image_id2, const std::vector<std::array<uint32_t, 2>>& matches);
+  void Exec(const std::string& sql);
+  sqlite3* handle() { return db_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  sqlite3_stmt* Prepare(int which, const char* sql);
+  void Step(sqlite3_stmt* st, const std::string& what);
+  std::string path_;
+  sqlite3* db_ = nullptr;
+  sqlite3_stmt* statements_[4] = {nullptr, nullptr, nullptr, nullptr};
+};
+
+}  // namespace madsfm::colmap
