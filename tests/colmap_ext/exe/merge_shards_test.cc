@@ -1,0 +1,293 @@
+// Sharded two_view_estimator runs + merge_shards (issue 7): the merged database equals the single-process run,
+// merging is idempotent, foreign shards are refused without a write, uncovered pairs are reported, a killed shard
+// task resumes, and a shard task never changes the database.
+#include "colmap_ext/exe/merge_shards_command.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "colmap_ext/database/database.h"
+#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/shard/shard_file.h"
+#include "colmap_ext/shard/shard_plan.h"
+#include "colmap_ext/synthetic/synthetic_project.h"
+#include "testing/colmap_database_builder.h"
+
+namespace madsfm {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kNumPairs = 16;
+constexpr int kMinNumMatches = 60;  // the project has 30-150 matches per pair: some pairs are skipped
+
+// One synthetic project per test (name), with COLMAP's own rows for a few pairs (so the backup table has content).
+struct Project {
+  std::string dir, db, depths;
+};
+
+Project MakeProject(const std::string& name, uint64_t seed = 11) {
+  Project p;
+  p.dir = (fs::temp_directory_path() / ("madsfm_merge_" + name)).string();
+  fs::remove_all(p.dir);
+  colmap::SyntheticProjectOptions o;
+  o.output_path = p.dir;
+  o.num_pairs = kNumPairs;
+  o.min_num_matches = 30;
+  o.max_num_matches = 150;
+  o.seed = seed;
+  const colmap::SyntheticProject sp = colmap::WriteSyntheticProject(o);
+  p.db = sp.database_path;
+  p.depths = sp.depth_path;
+  // COLMAP's rows (config 2, a few inliers) for the first three pairs.
+  testing::ExecSql(p.db,
+                   "INSERT INTO two_view_geometries(pair_id, rows, cols, data, config) "
+                   "SELECT pair_id, 1, 2, x'0000000000000000', 2 FROM matches ORDER BY pair_id LIMIT 3");
+  return p;
+}
+
+std::string CopyDb(const Project& p, const std::string& name) {
+  const std::string path = p.dir + "/" + name + ".db";
+  fs::copy_file(p.db, path, fs::copy_options::overwrite_existing);
+  return path;
+}
+
+TwoViewEstimatorOptions Options(const Project& p, const std::string& db) {
+  TwoViewEstimatorOptions o;
+  o.database_path = db;
+  o.depth_path = p.depths;
+  o.min_num_matches = kMinNumMatches;
+  o.num_threads = 2;
+  o.progress = false;
+  o.estimator.seed = 5;
+  return o;
+}
+
+// Runs every shard of a split (with the given thread count) and returns the shard files.
+std::vector<std::string> RunShards(const Project& p, const std::string& db, int num_shards, int threads = 1,
+                                   const std::string& tag = "s") {
+  std::vector<std::string> files;
+  for (int k = 0; k < num_shards; ++k) {
+    TwoViewEstimatorOptions o = Options(p, db);
+    o.num_shards = num_shards;
+    o.shard_index = k;
+    o.num_threads = threads;
+    o.shard_path = p.dir + "/" + tag + "_" + std::to_string(k) + "_of_" + std::to_string(num_shards) + ".sqlite";
+    RunTwoViewEstimatorImpl(o);
+    files.push_back(o.shard_path);
+  }
+  return files;
+}
+
+MergeShardsSummary Merge(const std::string& db, const std::vector<std::string>& shards,
+                         const std::string& uncovered = "") {
+  MergeShardsOptions m;
+  m.database_path = db;
+  m.shard_paths = shards;
+  m.uncovered_path = uncovered;
+  m.progress = false;
+  return MergeShards(m);
+}
+
+// Every table of the database, dumped (all columns, blobs as hex).
+std::string DumpAll(const std::string& db) {
+  std::ostringstream out;
+  std::vector<std::string> tables = colmap::Database::Open(db, true)->ListTables();
+  std::sort(tables.begin(), tables.end());
+  for (const std::string& t : tables) out << "== " << t << "\n" << testing::DumpTable(db, t);
+  return out.str();
+}
+
+std::string FileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+template <typename F>
+std::string ErrorOf(F&& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(MergeShards, MergedDatabaseEqualsTheSingleProcessRun) {
+  const Project p = MakeProject("equal");
+  const std::string single = CopyDb(p, "single");
+  const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(Options(p, single));
+  ASSERT_GT(s.num_skipped_few_matches, 0);  // the split must also leave these out
+  ASSERT_GT(s.num_estimated, 8);
+  const std::string expected = DumpAll(single);
+  ASSERT_NE(expected.find("== madsfm_backup_two_view_geometries"), std::string::npos);
+  for (int num_shards : {1, 3, 4}) {
+    const std::string merged = CopyDb(p, "merged" + std::to_string(num_shards));
+    const auto files = RunShards(p, merged, num_shards, /*threads=*/1 + num_shards % 2, "eq" + std::to_string(num_shards));
+    const MergeShardsSummary m = Merge(merged, files);
+    EXPECT_EQ(m.num_results, kNumPairs - s.num_skipped_few_matches);
+    EXPECT_EQ(m.num_geometries, s.num_estimated);
+    EXPECT_TRUE(m.uncovered.empty());
+    EXPECT_TRUE(m.missing_shard_indices.empty());
+    EXPECT_EQ(DumpAll(merged), expected) << num_shards << " shards";
+    EXPECT_EQ(testing::IntegrityCheck(merged), "ok");
+  }
+}
+
+TEST(MergeShards, MergingTwiceChangesNothing) {
+  const Project p = MakeProject("twice");
+  const std::string db = CopyDb(p, "db");
+  const auto files = RunShards(p, db, 2);
+  Merge(db, files);
+  const std::string once = DumpAll(db);
+  const MergeShardsSummary again = Merge(db, files);
+  EXPECT_EQ(DumpAll(db), once);
+  EXPECT_TRUE(again.uncovered.empty());
+  // COLMAP's original rows are still the ones backed up, not madsfm's.
+  EXPECT_GE(colmap::Database::Open(db)->RestoreTwoViewGeometries(), 1);
+  EXPECT_EQ(testing::DumpTable(db, "two_view_geometries"), testing::DumpTable(p.db, "two_view_geometries"));
+}
+
+TEST(MergeShards, AShardTaskOnlyReadsTheDatabase) {
+  const Project p = MakeProject("readonly");
+  const std::string db = CopyDb(p, "db");
+  const std::string before = FileBytes(db);
+  fs::permissions(db, fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  const auto files = RunShards(p, db, 2);
+  fs::permissions(db, fs::perms::owner_read | fs::perms::owner_write);
+  EXPECT_EQ(FileBytes(db), before);
+  EXPECT_FALSE(fs::exists(db + "-journal"));
+  EXPECT_GT(colmap::ShardFile::Open(files[0], true)->ResultPairs().size(), 0u);
+}
+
+TEST(MergeShards, RefusesShardsOfAnotherDatabaseOptionsOrSplitWithoutWriting) {
+  const Project p = MakeProject("refuse");
+  const Project other = MakeProject("refuse_other", 99);
+  const std::string db = CopyDb(p, "db");
+  const auto files = RunShards(p, db, 2, 1, "good");
+  const std::string before = DumpAll(db);
+
+  const auto foreign = RunShards(other, other.db, 2, 1, "foreign");
+  std::string e = ErrorOf([&] { Merge(db, {files[0], foreign[1]}); });
+  EXPECT_NE(e.find("shard file '" + foreign[1] + "' was made from another database"), std::string::npos) << e;
+
+  TwoViewEstimatorOptions o = Options(p, db);
+  o.num_shards = 2;
+  o.shard_index = 1;
+  o.estimator.epipolar_threshold = 3;
+  o.shard_path = p.dir + "/other_options.sqlite";
+  RunTwoViewEstimatorImpl(o);
+  e = ErrorOf([&] { Merge(db, {files[0], o.shard_path}); });
+  EXPECT_NE(e.find("shard file '" + o.shard_path + "' was made with other options than '" + files[0] + "'"),
+            std::string::npos) << e;
+
+  const auto three = RunShards(p, db, 3, 1, "three");
+  e = ErrorOf([&] { Merge(db, {files[0], three[1]}); });
+  EXPECT_NE(e.find("shard file '" + three[1] + "' (shard 1 of 3) belongs to another split"), std::string::npos) << e;
+
+  e = ErrorOf([&] { Merge(db, {files[0], files[0]}); });
+  EXPECT_NE(e.find("shard 0 of 2 given twice"), std::string::npos) << e;
+
+  e = ErrorOf([&] { Merge(db, {files[0], p.db}); });
+  EXPECT_NE(e.find("'" + p.db + "' is not a madsfm shard file"), std::string::npos) << e;
+
+  EXPECT_EQ(DumpAll(db), before);  // nothing written by any refused merge
+}
+
+TEST(MergeShards, ReportsThePairsNoShardCoveredThenCompletes) {
+  const Project p = MakeProject("uncovered");
+  const std::string db = CopyDb(p, "db");
+  const std::string single = CopyDb(p, "single");
+  RunTwoViewEstimatorImpl(Options(p, single));
+  const auto files = RunShards(p, db, 4);
+
+  // Shards 1 and 3 missing: exactly their pairs are uncovered, and listed as a pair list.
+  const std::string list = p.dir + "/uncovered.txt";
+  const MergeShardsSummary partial = Merge(db, {files[0], files[2]}, list);
+  EXPECT_EQ(partial.missing_shard_indices, (std::vector<int>{1, 3}));
+  std::set<colmap::pair_t> expected;
+  for (int k : {1, 3}) {
+    for (colmap::pair_t pr : colmap::ShardFile::Open(files[k], true)->AssignedPairs()) expected.insert(pr);
+  }
+  EXPECT_EQ(std::set<colmap::pair_t>(partial.uncovered.begin(), partial.uncovered.end()), expected);
+  EXPECT_TRUE(partial.coverage_from_database);
+  auto db_handle = colmap::Database::Open(db, true);
+  std::map<colmap::image_t, std::string> names;
+  for (const auto& im : db_handle->ReadImages()) names[im.image_id] = im.name;
+  const auto listed = ReadImagePairList(list);
+  EXPECT_EQ(listed.size(), 2 * expected.size());
+  for (colmap::pair_t pr : expected) {
+    colmap::image_t a, b;
+    colmap::PairIdToImagePair(pr, &a, &b);
+    EXPECT_TRUE(listed.count({names[a], names[b]})) << names[a] << " " << names[b];
+  }
+  db_handle.reset();
+
+  // The rest arrives later: now everything is covered (the first two shards count as done in the database) and the
+  // database equals the single-process run.
+  const MergeShardsSummary rest = Merge(db, {files[1], files[3]});
+  EXPECT_TRUE(rest.uncovered.empty());
+  EXPECT_EQ(rest.num_already_done, static_cast<long long>(
+                                       colmap::ShardFile::Open(files[0], true)->ResultPairs().size() +
+                                       colmap::ShardFile::Open(files[2], true)->ResultPairs().size()));
+  EXPECT_EQ(DumpAll(db), DumpAll(single));
+}
+
+TEST(MergeShards, AKilledShardTaskResumesFromItsFile) {
+  const Project p = MakeProject("resume");
+  const std::string db = CopyDb(p, "db");
+  const std::string single = CopyDb(p, "single");
+  RunTwoViewEstimatorImpl(Options(p, single));
+  auto files = RunShards(p, db, 2);
+  // As if the task of shard 1 had been killed after its first batches: drop half of its results.
+  const size_t total = colmap::ShardFile::Open(files[1], true)->ResultPairs().size();
+  ASSERT_GE(total, 4u);
+  testing::ExecSql(files[1], "DELETE FROM madsfm_shard_results WHERE pair_id IN (SELECT pair_id FROM "
+                             "madsfm_shard_results ORDER BY pair_id DESC LIMIT " + std::to_string(total / 2) + ")");
+  EXPECT_EQ(Merge(db, files).uncovered.size(), total / 2);
+
+  TwoViewEstimatorOptions o = Options(p, db);
+  o.num_shards = 2;
+  o.shard_index = 1;
+  o.shard_path = files[1];
+  const TwoViewEstimatorSummary rerun = RunTwoViewEstimatorImpl(o);
+  EXPECT_EQ(rerun.num_skipped_done, static_cast<int>(total - total / 2));
+  EXPECT_EQ(rerun.num_estimated + rerun.num_failed, static_cast<int>(total / 2));
+  EXPECT_TRUE(Merge(db, files).uncovered.empty());
+  EXPECT_EQ(DumpAll(db), DumpAll(single));
+
+  // The same shard path with other options is refused (naming the file) unless --overwrite.
+  o.estimator.reproj_threshold = 4;
+  const std::string e = ErrorOf([&] { RunTwoViewEstimatorImpl(o); });
+  EXPECT_NE(e.find("shard file '" + files[1] + "' exists and was made from other options"), std::string::npos) << e;
+  o.overwrite = true;
+  EXPECT_EQ(RunTwoViewEstimatorImpl(o).num_skipped_done, 0);
+  EXPECT_EQ(colmap::ShardFile::Open(files[1], true)->info().options_fingerprint, OptionsFingerprint(o));
+}
+
+TEST(MergeShards, ShardOptionsAreChecked) {
+  const Project p = MakeProject("options");
+  TwoViewEstimatorOptions o = Options(p, p.db);
+  o.num_shards = 0;
+  EXPECT_NE(ErrorOf([&] { RunTwoViewEstimatorImpl(o); }).find("--num_shards must be >= 1"), std::string::npos);
+  o.num_shards = 4;
+  o.shard_index = 4;
+  o.shard_path = p.dir + "/x.sqlite";
+  EXPECT_NE(ErrorOf([&] { RunTwoViewEstimatorImpl(o); }).find("--shard_index 4 is not in [0, --num_shards = 4)"),
+            std::string::npos);
+  o.shard_index = 1;
+  o.shard_path.clear();
+  EXPECT_NE(ErrorOf([&] { RunTwoViewEstimatorImpl(o); }).find("--num_shards > 1 needs --shard_path"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(p.dir + "/x.sqlite"));
+  MergeShardsOptions m;
+  m.database_path = p.db;
+  EXPECT_NE(ErrorOf([&] { MergeShards(m); }).find("no shard files given"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace madsfm
