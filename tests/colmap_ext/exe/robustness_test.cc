@@ -24,6 +24,7 @@
 #include "madsfm/io/depth_map_io.h"
 #include "madsfm/io/npy.h"
 #include "madsfm/synthetic/two_view_scene.h"
+#include "colmap_ext/synthetic/synthetic_project.h"
 #include "testing/colmap_database_builder.h"
 
 namespace madsfm {
@@ -109,8 +110,9 @@ std::string FileBytes(const std::string& path) {
   return ss.str();
 }
 
-// A COLMAP 3.8 database of `num_pairs` synthetic pairs (images 2k+1, 2k+2 = pair<k>_a.png, pair<k>_b.png), one
-// calibrated SIMPLE_PINHOLE camera per pair, identity matches, and depth sidecars <name>.npy in depths/.
+// A synthetic COLMAP project (colmap_ext/synthetic) of `num_pairs` pairs (images 2k+1, 2k+2 = pair<k>_a.png,
+// pair<k>_b.png), one calibrated SIMPLE_PINHOLE camera per pair, 200 matches with 20% outliers, and depth sidecars
+// <name>.npy in depths/.
 struct Project {
   std::string dir, db, depths;
   std::vector<SyntheticPair> pairs;
@@ -125,32 +127,19 @@ Project MakeProject(const std::string& name, int num_pairs) {
   p.dir = (fs::temp_directory_path() / ("madsfm_robust_" + name)).string();
   if (fs::exists(p.dir)) fs::permissions(p.dir, fs::perms::owner_all, fs::perm_options::add);
   fs::remove_all(p.dir);
-  fs::create_directories(p.dir + "/depths");
-  p.db = p.dir + "/database.db";
-  p.depths = p.dir + "/depths";
-  testing::ColmapDatabaseBuilder b(p.db);
-  SyntheticPairOptions opt = *SyntheticPairPreset("indoor_shared_focal");
-  opt.num_matches = 200;
-  opt.min_outlier_ratio = opt.max_outlier_ratio = 0.2;
-  p.pairs = GenerateTwoViewSet(opt, num_pairs, 11);
-  for (int k = 0; k < num_pairs; ++k) {
-    const PairData& d = p.pairs[k].pair;
-    const uint32_t cam = b.AddCamera(0, d.width0, d.height0, {d.K0(0, 0), d.K0(0, 2) + 0.5, d.K0(1, 2) + 0.5}, true);
-    const std::string n1 = "pair" + std::to_string(k) + "_a.png", n2 = "pair" + std::to_string(k) + "_b.png";
-    const uint32_t i1 = b.AddImage(n1, cam), i2 = b.AddImage(n2, cam);
-    std::vector<Eigen::Vector2d> k1, k2;
-    std::vector<std::array<uint32_t, 2>> matches;
-    for (size_t i = 0; i < d.p0.size(); ++i) {
-      k1.push_back(d.p0[i] + Eigen::Vector2d(0.5, 0.5));
-      k2.push_back(d.p1[i] + Eigen::Vector2d(0.5, 0.5));
-      matches.push_back({static_cast<uint32_t>(i), static_cast<uint32_t>(i)});
-    }
-    b.AddKeypoints(i1, k1);
-    b.AddKeypoints(i2, k2);
-    b.AddMatches(i1, i2, matches);
-    WriteDepthMapNpy(*d.depth0, p.Sidecar(k, 'a'));
-    WriteDepthMapNpy(*d.depth1, p.Sidecar(k, 'b'));
-  }
+  colmap::SyntheticProjectOptions o;
+  o.output_path = p.dir;
+  o.preset = "indoor_shared_focal";
+  o.num_pairs = num_pairs;
+  o.min_num_matches = o.max_num_matches = 200;
+  o.outlier_ratio = 0.2;
+  o.calibrated = true;
+  o.seed = 11;
+  o.keep_pairs = true;
+  colmap::SyntheticProject sp = colmap::WriteSyntheticProject(o);
+  p.db = sp.database_path;
+  p.depths = sp.depth_path;
+  p.pairs = std::move(sp.pairs);
   return p;
 }
 
