@@ -107,10 +107,11 @@ std::string CopyDatabase(const std::string& name) {
 
 // Starts `madsfm two_view_estimator` on `db` with its default options (one write transaction per 256 pairs)
 // through the CLI binary, stdout/stderr to db.log; returns the child's pid.
-pid_t StartCli(const std::string& db) {
+pid_t StartCli(const std::string& db, const std::vector<std::string>& extra_args = {}) {
   std::vector<std::string> args = {MADSFM_CLI_PATH, "two_view_estimator", "--database_path", db,
                                    "--depth_path",  Project().depths,    "--num_threads",   "2",
                                    "--max_iterations", std::to_string(kMaxIterations)};
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -265,6 +266,67 @@ std::string FirstDifference(const std::string& a, const std::string& b) {
 std::string Find(const std::map<int64_t, std::string>& rows, int64_t key) {
   const auto it = rows.find(key);
   return it == rows.end() ? "<no row>" : it->second;
+}
+
+// A killed shard task (SIGKILL mid-run) leaves a healthy shard file of whole batches; rerunning the task resumes
+// it, and merging both shards gives tables byte-identical to the single-process CLI run.
+TEST(TwoViewEstimatorKill, KilledShardTaskResumesAndTheMergeEqualsTheReferenceRun) {
+  const std::string ref = CopyDatabase("shard_reference");
+  const double ref_seconds = RunToCompletion(ref, /*cli=*/true);
+  const std::string db = CopyDatabase("sharded");
+  const std::string before = testing::DumpTable(db, "two_view_geometries");
+  std::vector<std::string> shards;
+  int num_killed = 0;
+  for (int k = 0; k < 2; ++k) {
+    shards.push_back(Project().dir + "/shard_" + std::to_string(k) + ".sqlite");
+    fs::remove(shards.back());
+    const std::vector<std::string> shard_args = {"--num_shards", "2", "--shard_index", std::to_string(k),
+                                                 "--shard_path", shards.back(), "--batch_size",
+                                                 std::to_string(kBatchSize)};
+    // Kill each task at about a quarter of its expected time (half the pairs of the reference run).
+    const pid_t pid = StartCli(db, shard_args);
+    ASSERT_GT(pid, 0);
+    std::this_thread::sleep_for(std::chrono::duration<double>(0.25 * ref_seconds));
+    ::kill(pid, SIGKILL);
+    const int status = WaitFor(pid);
+    num_killed += WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
+    if (fs::exists(shards.back())) {
+      EXPECT_EQ(testing::IntegrityCheck(shards.back()), "ok");
+      const std::string count_sql = "SELECT COUNT(*) FROM madsfm_shard_results";
+      sqlite3* h = nullptr;
+      ASSERT_EQ(sqlite3_open_v2(shards.back().c_str(), &h, SQLITE_OPEN_READWRITE, nullptr), SQLITE_OK);
+      sqlite3_stmt* st = nullptr;
+      int done = -1, assigned = -1;
+      if (sqlite3_prepare_v2(h, count_sql.c_str(), -1, &st, nullptr) == SQLITE_OK && sqlite3_step(st) == SQLITE_ROW) {
+        done = sqlite3_column_int(st, 0);
+      }
+      sqlite3_finalize(st);
+      if (sqlite3_prepare_v2(h, "SELECT COUNT(*) FROM madsfm_shard_pairs", -1, &st, nullptr) == SQLITE_OK &&
+          sqlite3_step(st) == SQLITE_ROW) {
+        assigned = sqlite3_column_int(st, 0);
+      }
+      sqlite3_finalize(st);
+      sqlite3_close(h);
+      EXPECT_TRUE(done % kBatchSize == 0 || done == assigned) << done << " of " << assigned << " results";
+      std::printf("shard %d killed after %d of its %d pairs\n", k, done, assigned);
+    }
+    // The database itself is never written by a shard task.
+    EXPECT_EQ(testing::DumpTable(db, "two_view_geometries"), before);
+    // Rerun the task to completion: it resumes its shard file.
+    const pid_t rerun = StartCli(db, shard_args);
+    ASSERT_GT(rerun, 0);
+    const int rerun_status = WaitFor(rerun);
+    EXPECT_TRUE(WIFEXITED(rerun_status) && WEXITSTATUS(rerun_status) == 0) << "see " << db << ".log";
+  }
+  EXPECT_GE(num_killed, 1);
+  const std::string merge = std::string(MADSFM_CLI_PATH) + " merge_shards --database_path " + db + " " + shards[0] +
+                            " " + shards[1] + " > " + db + ".merge.log 2>&1";
+  ASSERT_EQ(std::system(merge.c_str()), 0) << "see " << db << ".merge.log";
+  for (const char* table : {"two_view_geometries", "matches", "madsfm_two_view_geometries",
+                            "madsfm_backup_two_view_geometries"}) {
+    EXPECT_EQ(FirstDifference(testing::DumpTable(db, table), testing::DumpTable(ref, table)), "") << table;
+  }
+  EXPECT_EQ(testing::IntegrityCheck(db), "ok");
 }
 
 TEST(TwoViewEstimatorKill, KilledRunsLeaveWholeBatchesAndResumeToTheReferenceResult) {
