@@ -15,7 +15,7 @@ if [ "${MADSFM_SKIP_ASAN:-0}" != "1" ]; then
     -DMADSFM_BUILD_BENCHMARKS=OFF >/dev/null
   cmake --build "$ASAN_DIR" -j "$(nproc)"
   (cd "$ASAN_DIR" && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    ctest --output-on-failure -j "$(nproc)" -E '^e2e/')
+    ctest --output-on-failure -j "$(nproc)" -E '^(e2e|python)/')
 fi
 
 if [ "${MADSFM_SKIP_FUZZ:-0}" != "1" ]; then

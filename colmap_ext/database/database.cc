@@ -197,25 +197,7 @@ std::unique_ptr<Database> Database::Open(const std::string& path, bool read_only
     throw std::runtime_error("'" + path + "' is a read-only file and cannot be opened for writing");
   }
 
-  if (read_only) {
-    // A run killed inside a transaction leaves a hot rollback journal, which only a read-write connection can
-    // roll back: recover it first (as COLMAP would on its next write), or say what is wrong.
-    struct stat js;
-    const std::string journal = path + "-journal";
-    if (::stat(journal.c_str(), &js) == 0 && js.st_size > 0) {
-      if ((st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0) {
-        throw std::runtime_error("'" + path + "' has an unfinished transaction ('" + journal +
-                                 "') from an interrupted write, and the file is read-only: make it writable "
-                                 "so that SQLite can roll the transaction back");
-      }
-      sqlite3* recover = nullptr;
-      if (sqlite3_open_v2(path.c_str(), &recover, SQLITE_OPEN_READWRITE, nullptr) == SQLITE_OK) {
-        sqlite3_busy_timeout(recover, busy_timeout_ms);
-        sqlite3_exec(recover, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
-      }
-      sqlite3_close(recover);
-    }
-  }
+  if (read_only) sqlite::RollBackHotJournal(path, busy_timeout_ms);
 
   std::unique_ptr<Database> database(new Database());
   database->path_ = path;

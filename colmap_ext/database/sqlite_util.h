@@ -3,6 +3,7 @@
 #pragma once
 
 #include <sqlite3.h>
+#include <sys/stat.h>
 
 #include <cstdint>
 #include <limits>
@@ -96,6 +97,26 @@ inline void Exec(sqlite3* db, const std::string& path, const std::string& sql) {
     sqlite3_free(error);
     throw std::runtime_error("'" + path + "': \"" + sql + "\" failed: " + message);
   }
+}
+
+// A writer killed inside a transaction leaves a hot rollback journal, which only a read-write connection can roll
+// back; a read-only connection then fails. Called before opening `path` read-only: rolls the journal back (as the
+// next writer would), or throws saying what is wrong when the file is read-only.
+inline void RollBackHotJournal(const std::string& path, int busy_timeout_ms) {
+  struct stat js, st;
+  const std::string journal = path + "-journal";
+  if (::stat(journal.c_str(), &js) != 0 || js.st_size == 0 || ::stat(path.c_str(), &st) != 0) return;
+  if ((st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0) {
+    throw std::runtime_error("'" + path + "' has an unfinished transaction ('" + journal +
+                             "') from an interrupted write, and the file is read-only: make it writable "
+                             "so that SQLite can roll the transaction back");
+  }
+  sqlite3* recover = nullptr;
+  if (sqlite3_open_v2(path.c_str(), &recover, SQLITE_OPEN_READWRITE, nullptr) == SQLITE_OK) {
+    sqlite3_busy_timeout(recover, busy_timeout_ms);
+    sqlite3_exec(recover, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
+  }
+  sqlite3_close(recover);
 }
 
 }  // namespace madsfm::colmap::sqlite

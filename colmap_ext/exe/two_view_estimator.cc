@@ -252,7 +252,16 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
   std::ostringstream s;
   s.precision(17);
   const HybridEstimatorOptions& e = o.estimator;
-  s << "madsfm-1;mode=" << o.camera_mode << ";depth=" << (o.depth_path.empty() ? "-" : o.depth_path)
+  // The depth folder as an absolute, normalised path: "depths", "./depths/" and "/proj/depths" are the same options
+  // (shard tasks and reruns are often started from other working directories).
+  std::string depth = "-";
+  if (!o.depth_path.empty()) {
+    std::error_code ec;
+    const std::filesystem::path canonical = std::filesystem::weakly_canonical(o.depth_path, ec);
+    depth = ec ? o.depth_path : canonical.lexically_normal().string();
+    while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
+  }
+  s << "madsfm-1;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";it=" << e.min_iterations

@@ -267,6 +267,7 @@ std::unique_ptr<ShardFile> ShardFile::Open(const std::string& path, bool read_on
   if (!std::filesystem::is_regular_file(path)) throw std::runtime_error("shard file '" + path + "' does not exist");
   std::unique_ptr<ShardFile> shard(new ShardFile());
   shard->path_ = path;
+  if (read_only) sqlite::RollBackHotJournal(path, 5000);  // a task killed mid-batch: merge what it committed
   shard->db_ = OpenSqlite(path, read_only ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE);
   std::map<std::string, std::string> info;
   try {

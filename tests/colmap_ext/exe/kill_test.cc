@@ -291,7 +291,6 @@ TEST(TwoViewEstimatorKill, KilledShardTaskResumesAndTheMergeEqualsTheReferenceRu
     const int status = WaitFor(pid);
     num_killed += WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
     if (fs::exists(shards.back())) {
-      EXPECT_EQ(testing::IntegrityCheck(shards.back()), "ok");
       const std::string count_sql = "SELECT COUNT(*) FROM madsfm_shard_results";
       sqlite3* h = nullptr;
       ASSERT_EQ(sqlite3_open_v2(shards.back().c_str(), &h, SQLITE_OPEN_READWRITE, nullptr), SQLITE_OK);
@@ -307,6 +306,8 @@ TEST(TwoViewEstimatorKill, KilledShardTaskResumesAndTheMergeEqualsTheReferenceRu
       }
       sqlite3_finalize(st);
       sqlite3_close(h);
+      // After the read-write open above rolled a hot journal back (a kill inside a batch).
+      EXPECT_EQ(testing::IntegrityCheck(shards.back()), "ok");
       EXPECT_TRUE(done % kBatchSize == 0 || done == assigned) << done << " of " << assigned << " results";
       std::printf("shard %d killed after %d of its %d pairs\n", k, done, assigned);
     }

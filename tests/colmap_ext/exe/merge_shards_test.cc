@@ -269,6 +269,25 @@ TEST(MergeShards, AKilledShardTaskResumesFromItsFile) {
   EXPECT_EQ(colmap::ShardFile::Open(files[1], true)->info().options_fingerprint, OptionsFingerprint(o));
 }
 
+TEST(MergeShards, TheDepthFolderCountsByLocationNotSpelling) {
+  const Project p = MakeProject("spelling");
+  TwoViewEstimatorOptions a = Options(p, p.db), b = a, c = a;
+  b.depth_path = p.depths + "/";
+  c.depth_path = p.dir + "/./depths";
+  EXPECT_EQ(OptionsFingerprint(a), OptionsFingerprint(b));
+  EXPECT_EQ(OptionsFingerprint(a), OptionsFingerprint(c));
+  const fs::path old_cwd = fs::current_path();
+  fs::current_path(p.dir);
+  TwoViewEstimatorOptions relative = a;
+  relative.depth_path = "depths";
+  const std::string relative_fingerprint = OptionsFingerprint(relative);
+  fs::current_path(old_cwd);
+  EXPECT_EQ(relative_fingerprint, OptionsFingerprint(a));
+  TwoViewEstimatorOptions other = a;
+  other.depth_path = p.dir;
+  EXPECT_NE(OptionsFingerprint(other), OptionsFingerprint(a));
+}
+
 TEST(MergeShards, ShardOptionsAreChecked) {
   const Project p = MakeProject("options");
   TwoViewEstimatorOptions o = Options(p, p.db);

@@ -1,6 +1,9 @@
 #include "colmap_ext/shard/shard_file.h"
 
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
@@ -159,6 +162,34 @@ TEST(ShardFile, UncommittedBatchIsRolledBack) {
     // Destroyed without Commit(), as a killed task leaves it.
   }
   EXPECT_EQ(ShardFile::Open(path, true)->ResultPairs(), std::vector<pair_t>{ImagePairToPairId(1, 2)});
+  EXPECT_EQ(testing::IntegrityCheck(path), "ok");
+}
+
+TEST(ShardFile, ReadOnlyOpenRecoversFromATaskKilledInsideABatch) {
+  const std::string path = TempPath("killed.sqlite");
+  const pair_t a = ImagePairToPairId(1, 2), b = ImagePairToPairId(3, 4);
+  {
+    auto shard = ShardFile::Create(path, SomeInfo(), {a, b});
+    shard->Begin();
+    shard->WriteResult(SomeResult(a, true, true));
+    shard->Commit();
+  }
+  std::fflush(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    auto shard = ShardFile::Open(path, false);
+    shard->Begin();
+    shard->WriteResult(SomeResult(b, true, true));
+    ::raise(SIGKILL);  // dies inside the transaction: a hot journal stays behind
+    _exit(1);
+  }
+  ASSERT_GT(pid, 0);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  ASSERT_TRUE(fs::exists(path + "-journal") && fs::file_size(path + "-journal") > 0);
+  // merge_shards opens read-only: the interrupted batch is rolled back, the committed one is there.
+  EXPECT_EQ(ShardFile::Open(path, /*read_only=*/true)->ResultPairs(), std::vector<pair_t>{a});
   EXPECT_EQ(testing::IntegrityCheck(path), "ok");
 }
 
