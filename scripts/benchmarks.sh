@@ -39,3 +39,17 @@ for it in 20 50 100 200 1000; do
   run --pairs_path "$P/2_2d3ds" --camera_mode two_focal --method hybrid --num_seeds 20 --min_iterations "$it" --reproj_threshold 16 --epipolar_threshold 1
   run --pairs_path "$OUT/synth/indoor_calibrated/pairs.txt" --camera_mode calibrated --method hybrid --min_iterations "$it"
 done
+
+echo "## pipeline throughput (two_view_estimator on 1000 synthetic pairs, 1 and 2 threads)"
+"$BUILD_DIR/tests/bench/madsfm_pipeline_bench" 2>/dev/null | grep BM_
+
+echo "## sharding (1, 2, 4 shards as processes; single process; merge of 10,000 pairs)"
+"$BUILD_DIR/tests/bench/madsfm_shard_bench" --benchmark_repetitions=3 --benchmark_report_aggregates_only=true \
+  2>/dev/null | grep -E "median"
+
+echo "## Python thread pool"
+if [ -d "$BUILD_DIR/python/madsfm" ]; then
+  (cd "$ROOT" && PYTHONPATH="$BUILD_DIR/python" /usr/bin/python3 python/bench/threadpool_bench.py)
+else
+  echo "(no Python module in $BUILD_DIR/python: skipped)"
+fi
