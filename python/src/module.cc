@@ -1,5 +1,6 @@
 // The _madsfm extension: estimator options, the estimation entry point and its result. Input checking, cameras and
-// depth sampling live in the Python package (madsfm/_estimate.py), which hands this module clean float64 arrays.
+// depth sampling live in the Python package (madsfm/_inputs.py, madsfm/_api.py), which hands this module clean
+// float64 arrays.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>

@@ -56,7 +56,8 @@ struct KillProject {
 const KillProject& Project() {
   static const KillProject project = [] {
     KillProject p;
-    p.dir = (fs::temp_directory_path() / "madsfm_kill_test").string();
+    // One folder per process: ctest runs the two kill tests of this file at the same time.
+    p.dir = (fs::temp_directory_path() / ("madsfm_kill_test_" + std::to_string(::getpid()))).string();
     fs::remove_all(p.dir);
     fs::create_directories(p.dir + "/depths");
     p.original_db = p.dir + "/original.db";
@@ -328,6 +329,8 @@ TEST(TwoViewEstimatorKill, KilledShardTaskResumesAndTheMergeEqualsTheReferenceRu
     EXPECT_EQ(FirstDifference(testing::DumpTable(db, table), testing::DumpTable(ref, table)), "") << table;
   }
   EXPECT_EQ(testing::IntegrityCheck(db), "ok");
+  // The folder holds ~180 MB of depth maps: keep it only to investigate a failure.
+  if (!::testing::Test::HasFailure()) fs::remove_all(Project().dir);
 }
 
 TEST(TwoViewEstimatorKill, KilledRunsLeaveWholeBatchesAndResumeToTheReferenceResult) {

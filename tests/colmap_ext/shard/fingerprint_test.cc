@@ -38,7 +38,10 @@ TEST(Fingerprinter, DeterministicHexAndSensitiveToContentAndSplitting) {
 class DatabaseFingerprintTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = (fs::temp_directory_path() / "madsfm_fingerprint_test").string();
+    // One folder per test: ctest runs them in parallel.
+    dir_ = (fs::temp_directory_path() /
+            ("madsfm_fingerprint_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())))
+               .string();
     fs::remove_all(dir_);
     SyntheticProjectOptions o;
     o.output_path = dir_;
