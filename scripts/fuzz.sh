@@ -10,7 +10,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 SECONDS_PER_TARGET="${1:-60}"
 BUILD_DIR="${FUZZ_BUILD_DIR:-$ROOT/build-fuzz}"
 CRASH_DIR="$ROOT/tests/fuzz/crashes"
-ALL_FUZZERS="npy_fuzzer depth_file_fuzzer pair_directory_fuzzer sparse_model_fuzzer database_blob_fuzzer"
+ALL_FUZZERS="npy_fuzzer depth_file_fuzzer pair_directory_fuzzer sparse_model_fuzzer database_blob_fuzzer shard_file_fuzzer"
 FUZZERS="${FUZZERS:-$ALL_FUZZERS}"
 
 cmake -S "$ROOT" -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER="${CXX:-clang++}" \

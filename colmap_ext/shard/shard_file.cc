@@ -48,6 +48,8 @@ class BlobReader {
   void GetDoubles(double* v, int n) {
     for (int i = 0; i < n; ++i) v[i] = Get<double>();
   }
+  size_t remaining() const { return size_ - pos_; }
+  [[noreturn]] void Fail(const std::string& message) const { throw std::runtime_error(what_ + ": " + message); }
   void ExpectEnd() const {
     if (pos_ != size_) throw std::runtime_error(what_ + ": blob has " + std::to_string(size_ - pos_) + " extra bytes");
   }
@@ -82,7 +84,10 @@ TwoViewGeometryRow DecodeGeometry(pair_t pair_id, BlobReader r) {
   const auto flags = r.Get<uint8_t>();
   g.config = r.Get<int32_t>();
   const auto n = r.Get<uint64_t>();
-  if (n > (1ull << 32)) throw std::runtime_error("implausible number of inlier matches");
+  // Checked against the bytes left before allocating: a corrupt count must not become a huge allocation.
+  if (n > r.remaining() / (2 * sizeof(uint32_t))) {
+    r.Fail("blob too short for its " + std::to_string(n) + " inlier matches");
+  }
   g.inlier_matches.resize(n);
   for (auto& m : g.inlier_matches) {
     m[0] = r.Get<uint32_t>();

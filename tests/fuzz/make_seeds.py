@@ -3,7 +3,7 @@
 
 Usage: make_seeds.py OUT_DIR EXAMPLE_PAIRS_DIR
 Creates OUT_DIR/<target>/ for npy_fuzzer, depth_file_fuzzer, pair_directory_fuzzer, sparse_model_fuzzer and
-database_blob_fuzzer, each with small valid inputs (plus a few near-valid ones). Standard library only.
+database_blob_fuzzer, shard_file_fuzzer, each with small valid inputs (plus a few near-valid ones). Standard library only.
 """
 import json
 import os
@@ -126,6 +126,30 @@ def main():
     write(d, "pinhole_kp2", db_seed(1, pinhole, 3, 2, kp2, 3, 2, m))
     write(d, "simple_radial_kp6", db_seed(2, floats("<d", [500, 320, 240, 0.01]), 2, 6, kp6, 3, 2, m))
     write(d, "empty_rows", db_seed(0, floats("<d", [500, 320, 240]), 0, 6, b"", 0, 2, b""))
+
+    # ---- shard_file_fuzzer: uint16 geometry blob size (0xFFFF: NULL), the geometry blob, the madsfm blob.
+    d = os.path.join(out, "shard_file_fuzzer")
+
+    def geometry(flags, config, matches, n_mats, with_q, with_t):
+        b = struct.pack("<BiQ", flags, config, len(matches) // 2) + struct.pack("<%dI" % len(matches), *matches)
+        b += floats("<d", [0.1 * i for i in range(9 * n_mats)])
+        if with_q:
+            b += floats("<d", [1, 0, 0, 0])
+        if with_t:
+            b += floats("<d", [1, 0, 0])
+        return b
+
+    madsfm_row = floats("<d", [1, 0, 0, 0, 1, 0, 0, 0, 1, 0.5, 0, 0, 1, 0.1, -0.2, 500, 510, 3.5]) + \
+        struct.pack("<7i", 2, 0, 10, 11, 12, 12, 0)
+
+    def shard_seed(geom):
+        size = 0xFFFF if geom is None else len(geom)
+        return struct.pack("<H", size) + (geom or b"") + madsfm_row
+
+    write(d, "calibrated", shard_seed(geometry(1 | 2 | 8 | 16, 2, [0, 1, 2, 3], 2, True, True)))
+    write(d, "uncalibrated", shard_seed(geometry(1 | 8 | 16, 3, [5, 6], 1, True, True)))
+    write(d, "no_geometry", shard_seed(None))
+    write(d, "short_madsfm", struct.pack("<H", 0xFFFF) + madsfm_row[:40])
 
 
 if __name__ == "__main__":

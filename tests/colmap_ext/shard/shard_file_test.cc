@@ -267,6 +267,12 @@ TEST(ShardFile, MalformedResultBlobsAreReportedWithFileAndPair) {
   testing::ExecSql(path, "UPDATE madsfm_shard_results SET geometry = NULL, madsfm = madsfm || x'00'");
   const std::string e2 = ErrorOf([&] { ShardFile::Open(path, true)->ForEachResult([](const ShardResult&) {}); });
   EXPECT_NE(e2.find("result: blob has 1 extra bytes"), std::string::npos) << e2;
+  // A corrupt match count (2^40) is rejected before anything is allocated for it.
+  testing::ExecSql(path, "UPDATE madsfm_shard_results SET madsfm = substr(madsfm, 1, length(madsfm) - 1), "
+                         "geometry = x'02' || x'03000000' || x'0000000000010000'");
+  const std::string e3 = ErrorOf([&] { ShardFile::Open(path, true)->ForEachResult([](const ShardResult&) {}); });
+  EXPECT_NE(e3.find("pair " + std::to_string(p) + " geometry: blob too short for its 1099511627776 inlier matches"),
+            std::string::npos) << e3;
 }
 
 }  // namespace
