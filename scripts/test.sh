@@ -19,6 +19,6 @@ if [ "${MADSFM_SKIP_ASAN:-0}" != "1" ]; then
 fi
 
 if [ "${MADSFM_SKIP_FUZZ:-0}" != "1" ]; then
-  echo "== fuzzing: libFuzzer on the .npy / depth-file / pair-directory / sparse-model / database-blob parsers"
+  echo "== fuzzing: libFuzzer on the .npy / depth-file / pair-directory / sparse-model / database-blob / shard-file parsers"
   bash "$ROOT/scripts/fuzz.sh" "${MADSFM_FUZZ_SECONDS:-60}"
 fi
