@@ -1,9 +1,10 @@
 // Crash safety of `madsfm two_view_estimator`: a run on a database of 300 synthetic pairs (write transactions of 16
-// pairs, in a forked child since the CLI has no --batch_size) is SIGKILLed at seeded random moments spread over the
+// pairs, in a forked child running RunTwoViewEstimatorImpl) is SIGKILLed at seeded random moments spread over the
 // run. After every kill the database must be healthy (integrity check "ok"), hold whole batches only (the done pairs
 // are a prefix of the pair order whose length is a multiple of the batch size, each with its final rows), keep
 // COLMAP's original rows of every other pair, and a rerun of the CLI binary must end with tables byte-identical to
-// an uninterrupted reference run of the CLI.
+// an uninterrupted reference run of the CLI. Shard tasks (CLI with --shard_path --batch_size 16) are killed too:
+// their shard files must hold whole batches, resume, and merge to the reference tables.
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -132,9 +133,8 @@ pid_t StartCli(const std::string& db, const std::vector<std::string>& extra_args
 }
 
 // Forks a child that runs the estimator on `db` with the CLI's options (seed 0, 2 threads, the same depth folder
-// and max_iterations, hence the same options fingerprint) but batches of kBatchSize pairs. The CLI has no
-// --batch_size option (yet), so the small batches the kill test needs are only reachable through
-// RunTwoViewEstimatorImpl. The test process is single-threaded and holds no SQLite connection when it forks.
+// and max_iterations, hence the same options fingerprint) but batches of kBatchSize pairs, calling
+// RunTwoViewEstimatorImpl directly. The test process is single-threaded and holds no SQLite connection when it forks.
 // Returns the child's pid.
 pid_t StartForkedEstimator(const std::string& db) {
   TwoViewEstimatorOptions o;
