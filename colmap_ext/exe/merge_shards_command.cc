@@ -95,8 +95,9 @@ MergeShardsSummary MergeShards(const MergeShardsOptions& options) {
     CheckCompatible(*shards.back(), *shards.front(), options.database_path, db_fingerprint);
     const int k = shards.back()->info().shard_index;
     if (path_of_index.count(k)) {
-      throw std::runtime_error("shard " + std::to_string(k) + " of " + std::to_string(shards.back()->info().num_shards) +
-                               " given twice: '" + path_of_index[k] + "' and '" + path + "'");
+      const int n = shards.back()->info().num_shards;
+      throw std::runtime_error("shard " + std::to_string(k) + " of " + std::to_string(n) + " given twice: '" +
+                               path_of_index[k] + "' and '" + path + "'");
     }
     path_of_index[k] = path;
   }

@@ -162,7 +162,8 @@ bool OptionParser::Parse(int argc, char** argv, int first) {
     }
   }
   if (positional_ && positional_required_ && positional_->empty()) {
-    std::fprintf(stderr, "madsfm %s: missing %s... arguments (see --help)\n", command_.c_str(), positional_name_.c_str());
+    std::fprintf(stderr, "madsfm %s: missing %s... arguments (see --help)\n", command_.c_str(),
+                 positional_name_.c_str());
     return false;
   }
   return true;

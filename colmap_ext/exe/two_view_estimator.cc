@@ -337,9 +337,11 @@ std::unique_ptr<colmap::ShardFile> OpenOrCreateShard(const TwoViewEstimatorOptio
       auto shard = colmap::ShardFile::Open(o.shard_path, /*read_only=*/false);
       const colmap::ShardInfo& old = shard->info();
       std::string why;
-      if (old.database_fingerprint != info.database_fingerprint) why = "another database (or the database changed)";
-      else if (old.options_fingerprint != info.options_fingerprint) why = "other options (" + old.options_fingerprint + ")";
-      else if (old.split_fingerprint != info.split_fingerprint || old.shard_index != info.shard_index) {
+      if (old.database_fingerprint != info.database_fingerprint) {
+        why = "another database (or the database changed)";
+      } else if (old.options_fingerprint != info.options_fingerprint) {
+        why = "other options (" + old.options_fingerprint + ")";
+      } else if (old.split_fingerprint != info.split_fingerprint || old.shard_index != info.shard_index) {
         why = "another split (shard " + std::to_string(old.shard_index) + " of " + std::to_string(old.num_shards) + ")";
       }
       if (!why.empty()) {

@@ -35,8 +35,8 @@ class BlobWriter {
 
 class BlobReader {
  public:
-  BlobReader(const void* data, size_t size, std::string what) : p_(static_cast<const unsigned char*>(data)), size_(size),
-                                                                   what_(std::move(what)) {}
+  BlobReader(const void* data, size_t size, std::string what)
+      : p_(static_cast<const unsigned char*>(data)), size_(size), what_(std::move(what)) {}
   template <typename T>
   T Get() {
     if (pos_ + sizeof(T) > size_) throw std::runtime_error(what_ + ": blob too short");

@@ -52,10 +52,10 @@ SyntheticProject WriteSyntheticProject(const SyntheticProjectOptions& options) {
     const double f = options.calibrated ? d.K0(0, 0) : 1.2 * std::max(d.width0, d.height0);
     const uint32_t cam = db.AddCamera(0, d.width0, d.height0, {f, d.K0(0, 2) + 0.5, d.K0(1, 2) + 0.5},
                                       options.calibrated);
+    // A second camera only when the views differ (two-focal presets).
+    const double f2 = options.calibrated ? d.K1(0, 0) : 1.2 * std::max(d.width1, d.height1);
     const uint32_t cam2 = d.K1 == d.K0 ? cam
-                                       : db.AddCamera(0, d.width1, d.height1,
-                                                      {options.calibrated ? d.K1(0, 0) : 1.2 * std::max(d.width1, d.height1),
-                                                       d.K1(0, 2) + 0.5, d.K1(1, 2) + 0.5},
+                                       : db.AddCamera(0, d.width1, d.height1, {f2, d.K1(0, 2) + 0.5, d.K1(1, 2) + 0.5},
                                                       options.calibrated);
     const std::string n1 = "pair" + std::to_string(k) + "_a.png", n2 = "pair" + std::to_string(k) + "_b.png";
     const uint32_t i1 = db.AddImage(n1, cam), i2 = db.AddImage(n2, cam2);

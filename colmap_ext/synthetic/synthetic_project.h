@@ -31,7 +31,8 @@ struct SyntheticProjectOptions {
 
 struct SyntheticProject {
   std::string database_path, depth_path;
-  std::vector<SyntheticPair> pairs;  // with keep_pairs; pair k: images "pair<k>_a.png", "pair<k>_b.png" (ids 2k+1, 2k+2)
+  // With keep_pairs. Pair k: images "pair<k>_a.png", "pair<k>_b.png" (ids 2k+1, 2k+2).
+  std::vector<SyntheticPair> pairs;
 };
 
 // Writes the project; throws when output_path/database.db already exists (nothing is overwritten) or on I/O

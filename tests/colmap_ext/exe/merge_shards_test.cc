@@ -127,7 +127,8 @@ TEST(MergeShards, MergedDatabaseEqualsTheSingleProcessRun) {
   ASSERT_NE(expected.find("== madsfm_backup_two_view_geometries"), std::string::npos);
   for (int num_shards : {1, 3, 4}) {
     const std::string merged = CopyDb(p, "merged" + std::to_string(num_shards));
-    const auto files = RunShards(p, merged, num_shards, /*threads=*/1 + num_shards % 2, "eq" + std::to_string(num_shards));
+    const auto files =
+        RunShards(p, merged, num_shards, /*threads=*/1 + num_shards % 2, "eq" + std::to_string(num_shards));
     const MergeShardsSummary m = Merge(merged, files);
     EXPECT_EQ(m.num_results, kNumPairs - s.num_skipped_few_matches);
     EXPECT_EQ(m.num_geometries, s.num_estimated);
