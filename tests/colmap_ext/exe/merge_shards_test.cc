@@ -16,11 +16,13 @@
 #include "colmap_ext/shard/shard_plan.h"
 #include "colmap_ext/synthetic/synthetic_project.h"
 #include "testing/colmap_database_builder.h"
+#include "testing/error_of.h"
 
 namespace madsfm {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::ErrorOf;
 
 constexpr int kNumPairs = 16;
 constexpr int kMinNumMatches = 60;  // the project has 30-150 matches per pair: some pairs are skipped
@@ -105,16 +107,6 @@ std::string DumpAll(const std::string& db) {
 std::string FileBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-template <typename F>
-std::string ErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "no error";
 }
 
 TEST(MergeShards, MergedDatabaseEqualsTheSingleProcessRun) {

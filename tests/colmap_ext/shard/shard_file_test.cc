@@ -12,11 +12,13 @@
 #include <limits>
 
 #include "testing/colmap_database_builder.h"
+#include "testing/error_of.h"
 
 namespace madsfm::colmap {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::ErrorOf;
 
 std::string TempPath(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / "madsfm_shard_file_test";
@@ -196,16 +198,6 @@ TEST(ShardFile, ReadOnlyOpenRecoversFromATaskKilledInsideABatch) {
 TEST(ShardFile, WritingOutsideABatchIsAProgrammingError) {
   auto shard = ShardFile::Create(TempPath("nobatch.sqlite"), SomeInfo(), {});
   EXPECT_THROW(shard->WriteResult(SomeResult(ImagePairToPairId(1, 2), true, true)), std::logic_error);
-}
-
-template <typename F>
-std::string ErrorOf(F&& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "no error";
 }
 
 TEST(ShardFile, RefusesToOverwriteAnExistingFile) {
