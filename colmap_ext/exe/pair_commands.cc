@@ -101,17 +101,25 @@ MethodSummary Summarize(const std::string& method, const std::vector<PairResult>
   MethodSummary s;
   s.method = method;
   s.auc_thresholds = two_focal ? std::vector<double>{2, 5, 10, 20} : std::vector<double>{5, 10, 20};
-  std::vector<double> rot, trans, focal, pose, runtime;
+  std::vector<double> rot, trans, focal, pose, runtime, depth_err, depth_oracle;
+  int depth_good = 0, above5 = 0;
   for (const PairResult& r : results) {
     if (r.method != method) continue;
     ++s.runs;
     s.failures += !r.success;
     runtime.push_back(r.runtime_ms);
+    if (r.depth_err && r.depth_err_oracle) {
+      depth_err.push_back(*r.depth_err);
+      depth_oracle.push_back(*r.depth_err_oracle);
+      depth_good += *r.depth_err <= 1.25 * *r.depth_err_oracle;
+    }
+    s.absurd_shifts += r.absurd_shift;
     if (r.rot_err_deg && r.trans_err_deg) {
       s.has_ground_truth = true;
       rot.push_back(*r.rot_err_deg);
       trans.push_back(*r.trans_err_deg);
       pose.push_back(std::max(*r.rot_err_deg, *r.trans_err_deg));
+      above5 += pose.back() > 5.0;
     }
     if (r.focal_err) {
       s.has_focal = true;
@@ -123,6 +131,11 @@ MethodSummary Summarize(const std::string& method, const std::vector<PairResult>
   s.median_focal_err = Median(focal);
   s.auc = pose.empty() ? std::vector<double>(s.auc_thresholds.size(), std::nan("")) : PoseAuc(pose, s.auc_thresholds);
   s.median_runtime_ms = Median(runtime);
+  s.share_pose_err_above_5 = pose.empty() ? std::nan("") : static_cast<double>(above5) / pose.size();
+  s.depth_measured = static_cast<int>(depth_err.size());
+  s.depth_within_125 = depth_err.empty() ? std::nan("") : static_cast<double>(depth_good) / depth_err.size();
+  s.median_depth_err = Median(depth_err);
+  s.median_depth_err_oracle = Median(depth_oracle);
   double sum = 0;
   for (double t : runtime) sum += t;
   s.mean_runtime_ms = runtime.empty() ? std::nan("") : sum / runtime.size();
@@ -218,6 +231,7 @@ int RunBench(int argc, char** argv) {
         HybridEstimatorOptions o = flags.options;
         o.seed = static_cast<uint64_t>(jobs[j].seed);
         results[j] = EvaluatePair(pairs[jobs[j].pair], mode, methods[jobs[j].method], o);
+        results[j].seed = jobs[j].seed;
         const int d = ++done;
         std::lock_guard<std::mutex> lock(progress_mutex);
         const int total = static_cast<int>(jobs.size());
@@ -250,8 +264,8 @@ int RunBench(int argc, char** argv) {
     if (mode != CameraMode::kCalibrated) { header << " med focal err |"; rule << "---|"; }
     const MethodSummary probe = Summarize(methods[0], results, two_focal);
     for (double t : probe.auc_thresholds) { header << " AUC@" << t << " |"; rule << "---|"; }
-    header << " med ms | mean ms |";
-    rule << "---|---|";
+    header << " >5 deg | depth err (oracle) | depth <=1.25x | absurd | med ms | mean ms |";
+    rule << "---|---|---|---|---|---|";
     std::cout << header.str() << "\n" << rule.str() << "\n";
     for (const std::string& m : methods) {
       const MethodSummary s = Summarize(m, results, two_focal);
@@ -259,6 +273,9 @@ int RunBench(int argc, char** argv) {
                 << Fmt(s.median_trans_err) << " |";
       if (mode != CameraMode::kCalibrated) std::cout << " " << Fmt(100 * s.median_focal_err) << "% |";
       for (double a : s.auc) std::cout << " " << Fmt(100 * a) << " |";
+      std::cout << " " << Fmt(100 * s.share_pose_err_above_5, 1) << "% | " << Fmt(100 * s.median_depth_err)
+                << "% (" << Fmt(100 * s.median_depth_err_oracle) << "%) | " << Fmt(100 * s.depth_within_125, 1)
+                << "% | " << s.absurd_shifts << " |";
       std::cout << " " << Fmt(s.median_runtime_ms) << " | " << Fmt(s.mean_runtime_ms) << " |\n";
       nlohmann::json mj;
       mj["runs"] = s.runs;
@@ -269,6 +286,14 @@ int RunBench(int argc, char** argv) {
         for (size_t k = 0; k < s.auc.size(); ++k) mj["auc@" + Fmt(s.auc_thresholds[k], 0)] = s.auc[k];
       }
       if (s.has_focal) mj["median_focal_err"] = s.median_focal_err;
+      if (s.has_ground_truth) mj["share_pose_err_above_5deg"] = s.share_pose_err_above_5;
+      if (s.depth_measured > 0) {
+        mj["depth_measured"] = s.depth_measured;
+        mj["depth_within_1.25x_oracle"] = s.depth_within_125;
+        mj["median_depth_err"] = s.median_depth_err;
+        mj["median_depth_err_oracle"] = s.median_depth_err_oracle;
+      }
+      mj["absurd_shifts"] = s.absurd_shifts;
       mj["median_runtime_ms"] = s.median_runtime_ms;
       mj["mean_runtime_ms"] = s.mean_runtime_ms;
       summary_json["methods"][m] = mj;
@@ -280,7 +305,7 @@ int RunBench(int argc, char** argv) {
       std::ofstream csv(csv_path);
       if (!csv) throw std::runtime_error("cannot write '" + csv_path + "'");
       csv << "pair,method,camera_mode,status,qw,qx,qy,qz,tx,ty,tz,f0,f1,scale,shift0,shift1,num_inliers,runtime_ms,"
-             "rot_err_deg,trans_err_deg,focal_err\n";
+             "rot_err_deg,trans_err_deg,focal_err,depth_err,depth_err_oracle,depth_support,seed\n";
       csv.precision(10);
       auto opt = [](const std::optional<double>& v) { return v ? std::to_string(*v) : std::string(); };
       for (const PairResult& r : results) {
@@ -294,7 +319,8 @@ int RunBench(int argc, char** argv) {
           csv << ",,,,,,,,,,,,,0";
         }
         csv << ',' << r.runtime_ms << ',' << opt(r.rot_err_deg) << ',' << opt(r.trans_err_deg) << ','
-            << opt(r.focal_err) << '\n';
+            << opt(r.focal_err) << ',' << opt(r.depth_err) << ',' << opt(r.depth_err_oracle) << ','
+            << (r.depth_support ? std::to_string(*r.depth_support) : std::string()) << ',' << r.seed << '\n';
       }
       const std::string json_path = (std::filesystem::path(output_path) / "summary.json").string();
       std::ofstream js(json_path);

@@ -22,6 +22,12 @@ struct MethodSummary {
   double median_runtime_ms = 0, mean_runtime_ms = 0;
   bool has_ground_truth = false;
   bool has_focal = false;
+  double share_pose_err_above_5 = 0;  // runs whose max(rot, trans) error exceeds 5 deg (failures included)
+  // Depth corrections (runs measured against true depth maps): how many, the share within 1.25x of the best
+  // per-view affine fit's error, the median error, and the runs with |shift| > 10x the median prior depth.
+  int depth_measured = 0;
+  double depth_within_125 = 0, median_depth_err = 0, median_depth_err_oracle = 0;
+  int absurd_shifts = 0;
 };
 MethodSummary Summarize(const std::string& method, const std::vector<PairResult>& results, bool two_focal);
 

@@ -39,7 +39,10 @@ int RunSynth(int argc, char** argv) {
     for (int i = 0; i < num_pairs; ++i) {
       char name[256];
       std::snprintf(name, sizeof(name), "%s_%04d", preset.c_str(), i);
-      WritePairDirectory(set[i].pair, (std::filesystem::path(output_path) / name).string());
+      PairData pair = set[i].pair;
+      pair.gt_depth0 = set[i].true_depth_map0;  // for bench's depth-correction errors
+      pair.gt_depth1 = set[i].true_depth_map1;
+      WritePairDirectory(pair, (std::filesystem::path(output_path) / name).string());
       list << name << "\n";
     }
     std::fprintf(stderr, "synth: wrote %d pairs and %s\n", num_pairs, list_path.c_str());

@@ -23,6 +23,14 @@ void HybridEstimatorOptions::Check() const {
   Require(confidence > 0 && confidence < 1, "confidence must be in (0, 1)");
   Require(num_lo_steps >= 0, "num_lo_steps must be >= 0");
   Require(lo_max_lm_iterations >= 0, "lo_max_lm_iterations must be >= 0");
+  Require(num_lo_lsq_steps >= 1, "num_lo_lsq_steps must be >= 1");
+  Require(std::isfinite(lo_threshold_multiplier) && lo_threshold_multiplier >= 1,
+          "lo_threshold_multiplier must be >= 1");
+  Require(lo_inner_sample_multiplier >= 1, "lo_inner_sample_multiplier must be >= 1");
+  Require(lo_lsq_sample_size >= 8, "lo_lsq_sample_size must be >= 8");
+  Require(lo_starting_iterations >= 0, "lo_starting_iterations must be >= 0");
+  Require(std::isfinite(max_shift_ratio) && max_shift_ratio >= 0, "max_shift_ratio must be >= 0");
+  Require(max_depth_sigma > 0, "max_depth_sigma must be > 0");
   Require(final_reprojection_weight >= 0 && final_reprojection_weight <= 1,
           "final_reprojection_weight must be in [0, 1]");
   Require(epipolar_check_ratio == 0 || epipolar_check_ratio >= 1, "epipolar_check_ratio must be 0 or >= 1");

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "madsfm/geometry/affine_depth_pose.h"
@@ -36,6 +37,9 @@ struct HybridEstimatorOptions {
   ScoringMode scoring = ScoringMode::kHybrid;
   // false: scale-only ablation (shift0 = shift1 = 0 in solvers, scoring and refinement).
   bool estimate_shift = true;
+  // Sampson data whose triangulated point lies behind a camera count as outliers (as the paper's code scores
+  // them): the Sampson error alone cannot tell the twisted-pair and sign-flipped poses apart.
+  bool sampson_cheirality = true;
 
   // RANSAC iterations: at least min_iterations, then adaptive (hybrid stopping criterion of
   // Camposeco et al. 2018 at `confidence`), at most max_iterations.
@@ -43,9 +47,19 @@ struct HybridEstimatorOptions {
   int max_iterations = 10000;
   double confidence = 0.9999;
 
-  // Local optimisation (Lebeda et al. 2012): when a hypothesis beats the best so far, up to
-  // num_lo_steps rounds of (joint least squares over the inliers of all data types, re-scoring).
+  // Local optimisation (Lebeda et al. 2012, LO+ as in RansacLib): when a hypothesis beats the best so far, a
+  // joint least-squares fit over its inliers under thresholds relaxed by lo_threshold_multiplier (on the squared
+  // thresholds), then num_lo_steps rounds of (least squares on a random subset of lo_inner_sample_multiplier x the
+  // minimal sample size of those inliers, then num_lo_lsq_steps fits on random subsets of lo_lsq_sample_size of
+  // the inliers under thresholds shrinking from the relaxed to the true ones). 0 rounds: only the first fit.
   int num_lo_steps = 4;
+  int num_lo_lsq_steps = 4;
+  double lo_threshold_multiplier = 5.0;
+  int lo_inner_sample_multiplier = 3;
+  int lo_lsq_sample_size = 300;
+  // RANSAC iterations before the first local optimisation (Lebeda et al.: early best models change too often to
+  // be worth optimising); the best model so far is optimised when they are reached.
+  int lo_starting_iterations = 50;
   // Levenberg-Marquardt iterations per least-squares solve.
   int lo_max_lm_iterations = 10;
   // Final refinement on the inliers of the best model.
@@ -63,6 +77,17 @@ struct HybridEstimatorOptions {
   // have dragged the hybrid model away from the epipolar evidence and the point model's pose is taken
   // (scale and shifts refitted). 0 disables the check. See docs/benchmarks.md.
   double epipolar_check_ratio = 1.05;
+
+  // Bound of the shifts: |shift_i| <= max_shift_ratio x the median prior of view i (0: unbounded). A shift of many
+  // times the depths themselves flattens the corrected depth map; it only ever appears where the depths are not
+  // determined.
+  double max_shift_ratio = 5.0;
+  // After the pose is final: fit scale, shifts and |t| to it by least squares of the depth inliers' reprojection
+  // errors (R and the direction of t fixed), kept when the score does not get worse.
+  bool final_depth_fit = true;
+  // The depth corrections count as observable (HybridEstimate::depth_observable) when the standard deviations of
+  // shift0 / shift1 (relative to the median prior) and of the scale (relative) are at most this.
+  double max_depth_sigma = 0.1;
 
   // Seed of the random sampler: the same seed gives the same result.
   uint64_t seed = 0;
@@ -83,6 +108,14 @@ struct HybridEstimate {
   int num_lo = 0;
   int num_depth_samples = 0, num_point_samples = 0;  // minimal samples drawn per solver
   bool epipolar_check_switched = false;  // the point-only competitor won (epipolar_check_ratio)
+  // Standard deviations of the depth corrections from the final depth fit (shifts relative to the median prior of
+  // their view, scale relative to itself; NaN when not estimated), and whether they are all below
+  // options.max_depth_sigma: false means the priors do not determine scale and shifts (tiny baseline, pure
+  // rotation, too few depth inliers) and the reported values are not to be trusted.
+  double sigma_shift0 = std::numeric_limits<double>::quiet_NaN();
+  double sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
+  double sigma_scale = std::numeric_limits<double>::quiet_NaN();
+  bool depth_observable = false;
   double runtime_ms = 0.0;
 };
 

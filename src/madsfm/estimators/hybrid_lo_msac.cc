@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <algorithm>
 #include <limits>
 
 #include "madsfm/estimators/hybrid_sampling.h"
@@ -37,16 +38,31 @@ InlierRatios ComputeRatios(const RelposeProblem& p, const InlierSets& in, const 
   return r;
 }
 
+double MedianPrior(const std::vector<double>& d, const std::vector<int>& valid) {
+  if (valid.empty()) return 1.0;
+  std::vector<double> v;
+  v.reserve(valid.size());
+  for (int i : valid) v.push_back(d[i]);
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2] > 0.0 ? v[v.size() / 2] : 1.0;
+}
+
 class Engine {
  public:
   Engine(const RelposeProblem& p, const HybridEstimatorOptions& o)
-      : p_(p), o_(o), w_(MsacWeights::FromOptions(o)), solvers_(p, o.estimate_shift), sampler_(o.seed) {}
+      : p_(p), o_(o), w_(MsacWeights::FromOptions(o)), solvers_(p, o.estimate_shift), sampler_(o.seed) {
+    median_prior0_ = MedianPrior(p.d0, p.with_depth0);
+    median_prior1_ = MedianPrior(p.d1, p.with_depth1);
+  }
 
   HybridEstimate Run();
 
  private:
   void LocalOptimize(AffineDepthPose* model, double* score, bool from_point_solver);
+  void DrawSubset(const InlierSets& in, int k, InlierSets* out);
+  RelposeRefinerOptions RefinerOptions(int max_iterations) const;
   bool Refine(AffineDepthPose* model, const InlierSets& inliers, int max_iterations);
+  void FitDepthCorrections(AffineDepthPose* model, double* score, HybridEstimate* result);
   void LeanOnEpipolarEvidence(AffineDepthPose* model, double* score);
 
   const RelposeProblem& p_;
@@ -55,15 +71,54 @@ class Engine {
   MinimalSolvers solvers_;
   IndexSampler sampler_;
   InlierSets inliers_;
+  InlierSets lo_inliers_, lo_subset_;
+  double median_prior0_ = 1.0, median_prior1_ = 1.0;  // of the valid priors (the shift bounds' reference)
+  std::vector<int> pool_;
   int num_lo_ = 0;
 };
 
-bool Engine::Refine(AffineDepthPose* model, const InlierSets& in, int max_iterations) {
+RelposeRefinerOptions Engine::RefinerOptions(int max_iterations) const {
   RelposeRefinerOptions ro;
   ro.max_iterations = max_iterations;
   ro.sampson_weight = w_.sampson_weight;
   ro.refine_shift = w_.use_shift;
-  return RefineRelpose(p_, in.reproj0, in.reproj1, in.sampson, ro, model);
+  ro.max_shift = o_.max_shift_ratio;
+  ro.shift_reference0 = median_prior0_;
+  ro.shift_reference1 = median_prior1_;
+  return ro;
+}
+
+bool Engine::Refine(AffineDepthPose* model, const InlierSets& in, int max_iterations) {
+  return RefineRelpose(p_, in.reproj0, in.reproj1, in.sampson, RefinerOptions(max_iterations), model);
+}
+
+// The depth corrections of the final pose: scale, shifts and |t| by least squares of the reprojection errors
+// of the depth inliers with R and the direction of t fixed (rounds of fit and inlier re-selection), kept when
+// the MSAC score does not get worse. Their standard deviations say whether the priors determine them at all
+// (tiny baselines, pure rotation: they do not).
+void Engine::FitDepthCorrections(AffineDepthPose* model, double* score, HybridEstimate* result) {
+  RelposeRefinerOptions ro = RefinerOptions(o_.final_max_lm_iterations);
+  ro.refine_pose = false;
+  ro.refine_focal = false;
+  const std::vector<int> none;
+  for (int round = 0; round < 2; ++round) {
+    if (inliers_.reproj0.empty() && inliers_.reproj1.empty()) return;
+    AffineDepthPose m = *model;
+    RelposeRefinerSummary summary;
+    if (!RefineRelpose(p_, inliers_.reproj0, inliers_.reproj1, none, ro, &m, &summary)) return;
+    const double s = ScoreModel(p_, m, w_);
+    if (!(s <= *score)) return;
+    *model = m;
+    *score = s;
+    result->sigma_shift0 = summary.sigma_shift0 / median_prior0_;
+    result->sigma_shift1 = summary.sigma_shift1 / median_prior1_;
+    result->sigma_scale = summary.sigma_scale / m.scale;
+    InlierSets check;
+    ComputeInliers(p_, m, w_, &check);
+    const bool same = check.reproj0 == inliers_.reproj0 && check.reproj1 == inliers_.reproj1;
+    inliers_ = check;
+    if (same) return;
+  }
 }
 
 // The last refinement with down-weighted reprojection terms (options.final_reprojection_weight): the
@@ -99,28 +154,88 @@ void Engine::LeanOnEpipolarEvidence(AffineDepthPose* model, double* score) {
   }
 }
 
+// Local optimisation in the manner of Lebeda et al. 2012 (LO+ with inner samples and a threshold schedule), as
+// RansacLib and the paper's code run it: a least-squares fit on the inliers under a relaxed threshold, then
+// num_lo_steps rounds of (least squares on a random subset of those inliers, then num_lsq_steps least-squares
+// fits on random subsets of the inliers under a threshold shrinking from the relaxed one to the true one). Every
+// fitted model is scored; the best of them and of the input is kept. The random subsets let the model leave the
+// basin of its minimal sample (a plain LM from the current model does not).
 void Engine::LocalOptimize(AffineDepthPose* model, double* score, bool from_point_solver) {
   ++num_lo_;
-  for (int step = 0; step < o_.num_lo_steps; ++step) {
-    AffineDepthPose candidate = *model;
-    ComputeInliers(p_, candidate, w_, &inliers_);
-    if (from_point_solver && step == 0 && w_.use_reprojection && !inliers_.sampson.empty()) {
-      // A point-solver model's scale and shifts come from its 5-7 sample points only: refit them on
-      // all epipolar inliers first, then recompute the depth inliers.
-      AffineDepthPose refit = candidate;
-      if (FitDepthParameters(p_, inliers_.sampson, w_.use_shift, &refit) &&
-          ScoreModel(p_, refit, w_) < ScoreModel(p_, candidate, w_)) {
-        candidate = refit;
-        ComputeInliers(p_, candidate, w_, &inliers_);
-      }
+  AffineDepthPose m_init = *model;
+  if (from_point_solver && w_.use_reprojection) {
+    // A point-solver model's scale and shifts come from its 5-7 sample points only: refit them on all epipolar
+    // inliers first.
+    ComputeInliers(p_, m_init, w_, &lo_inliers_);
+    AffineDepthPose refit = m_init;
+    if (!lo_inliers_.sampson.empty() && FitDepthParameters(p_, lo_inliers_.sampson, w_.use_shift, &refit)) {
+      const double s = ScoreModel(p_, refit, w_);
+      if (s < ScoreModel(p_, m_init, w_)) m_init = refit;
     }
-    if (!Refine(&candidate, inliers_, o_.lo_max_lm_iterations)) break;
-    // Ties are accepted: once the inlier errors are below the rounding of the (truncated) outlier
-    // terms the score stops changing, but the least-squares model is still the better one.
-    const double s = ScoreModel(p_, candidate, w_);
-    if (!(s <= *score)) break;
-    *model = candidate;
-    *score = s;
+  }
+  auto consider = [&](const AffineDepthPose& m) {
+    const double s = ScoreModel(p_, m, w_, *score);
+    // Ties are accepted: once the inlier errors are below the rounding of the truncated outlier terms the score
+    // stops changing, but the least-squares model is the better one.
+    if (s <= *score) {
+      *score = s;
+      *model = m;
+    }
+  };
+  const double mult = o_.lo_threshold_multiplier;
+  const MsacWeights relaxed = w_.Relaxed(mult);
+  // 1. Least squares on all inliers under the relaxed threshold.
+  ComputeInliers(p_, m_init, relaxed, &lo_inliers_);
+  if (Refine(&m_init, lo_inliers_, o_.lo_max_lm_iterations)) consider(m_init);
+  if (o_.num_lo_steps <= 0) return;
+  // 2. Inner rounds on subsets of the inliers of m_init.
+  InlierSets base;
+  ComputeInliers(p_, m_init, w_, &base);
+  const int num_base = base.Total();
+  if (num_base == 0) return;
+  const int k_min = std::max(MinimalSampleSize(p_.mode, MinimalSolverKind::kDepth, o_.estimate_shift),
+                             MinimalSampleSize(p_.mode, MinimalSolverKind::kPoint, o_.estimate_shift));
+  const int inner_size = std::max(std::min(o_.lo_inner_sample_multiplier * k_min, num_base / 2), 2 * k_min);
+  const int lsq_size = o_.lo_lsq_sample_size;
+  const int num_lsq = std::max(1, o_.num_lo_lsq_steps);
+  for (int r = 0; r < o_.num_lo_steps; ++r) {
+    AffineDepthPose m = m_init;
+    DrawSubset(base, inner_size, &lo_subset_);
+    if (!Refine(&m, lo_subset_, o_.lo_max_lm_iterations)) continue;
+    consider(m);
+    for (int i = 0; i < num_lsq; ++i) {
+      const double f = num_lsq > 1 ? static_cast<double>(i) / (num_lsq - 1) : 1.0;
+      const MsacWeights wi = w_.Relaxed(mult + (1.0 - mult) * f);  // mult -> 1
+      ComputeInliers(p_, m, wi, &lo_inliers_);
+      DrawSubset(lo_inliers_, lsq_size, &lo_subset_);
+      if (!Refine(&m, lo_subset_, o_.lo_max_lm_iterations)) break;
+      consider(m);
+    }
+  }
+}
+
+// A random subset of k of the pooled inliers of all data types (all of them when there are at most k).
+void Engine::DrawSubset(const InlierSets& in, int k, InlierSets* out) {
+  const int n0 = static_cast<int>(in.reproj0.size()), n1 = static_cast<int>(in.reproj1.size());
+  const int n = in.Total();
+  out->reproj0.clear();
+  out->reproj1.clear();
+  out->sampson.clear();
+  auto push = [&](int j) {
+    if (j < n0) out->reproj0.push_back(in.reproj0[j]);
+    else if (j < n0 + n1) out->reproj1.push_back(in.reproj1[j - n0]);
+    else out->sampson.push_back(in.sampson[j - n0 - n1]);
+  };
+  if (n <= k) {
+    *out = in;
+    return;
+  }
+  pool_.resize(n);
+  for (int j = 0; j < n; ++j) pool_[j] = j;
+  for (int j = 0; j < k; ++j) {  // partial Fisher-Yates
+    const int l = j + static_cast<int>(sampler_.Uniform() * (n - j));
+    std::swap(pool_[j], pool_[std::min(l, n - 1)]);
+    push(pool_[j]);
   }
 }
 
@@ -147,9 +262,37 @@ HybridEstimate Engine::Run() {
   models.reserve(16);
   int sample[8];
 
+  // As in RansacLib: a minimal model that beats the best MINIMAL model so far is locally optimised, and the result
+  // competes with the best optimised model. (Comparing new minimal models with the optimised score instead would
+  // almost never optimise a model from another basin.) No local optimisation in the first lo_starting_iterations.
+  double best_min_score = std::numeric_limits<double>::infinity();
+  AffineDepthPose best_min;
+  bool best_min_from_points = false;
+  bool lo_started = o_.num_lo_steps < 0;
+  auto update_termination = [&]() {
+    ComputeInliers(p_, best, w_, &inliers_);
+    ratios = ComputeRatios(p_, inliers_, w_);
+    const double P_d = AllInlierProbability(ratios.both_depths, k_depth);
+    const double P_p = AllInlierProbability(ratios.sampson, k_point);
+    const double qd = depth_ok ? (point_ok ? FirstSolverProbability(P_d, P_p) : 1.0) : 0.0;
+    required = RequiredIterations({qd, 1.0 - qd}, {P_d, P_p}, o_.confidence, o_.max_iterations);
+  };
+  auto optimize_and_compete = [&](AffineDepthPose m, double score, bool from_points) {
+    LocalOptimize(&m, &score, from_points);
+    if (score < best_score) {
+      best_score = score;
+      best = m;
+      have_best = true;
+    }
+  };
   int it = 0;
   for (; it < o_.max_iterations; ++it) {
     if (it >= o_.min_iterations && it >= required) break;
+    if (!lo_started && it >= o_.lo_starting_iterations && have_best) {
+      lo_started = true;
+      optimize_and_compete(best_min, best_min_score, best_min_from_points);
+      update_termination();
+    }
     const double P_depth = AllInlierProbability(ratios.both_depths, k_depth);
     const double P_point = AllInlierProbability(ratios.sampson, k_point);
     double q_depth = depth_ok ? (point_ok ? FirstSolverProbability(P_depth, P_point) : 1.0) : 0.0;
@@ -163,26 +306,29 @@ HybridEstimate Engine::Run() {
       ++result.num_point_samples;
     }
     solvers_.Solve(kind, sample, &models);
-    bool improved = false;
-    for (AffineDepthPose& m : models) {
-      const double s = ScoreModel(p_, m, w_, best_score);
-      if (s < best_score) {
-        best_score = s;
-        best = m;
-        have_best = true;
-        improved = true;
-        if (o_.num_lo_steps > 0) LocalOptimize(&best, &best_score, kind == MinimalSolverKind::kPoint);
+    int local_best = -1;
+    double local_score = best_min_score;
+    for (int k = 0; k < static_cast<int>(models.size()); ++k) {
+      const double s = ScoreModel(p_, models[k], w_, local_score);
+      if (s < local_score) {
+        local_score = s;
+        local_best = k;
       }
     }
-    if (improved) {
-      ComputeInliers(p_, best, w_, &inliers_);
-      ratios = ComputeRatios(p_, inliers_, w_);
-      const double P_d = AllInlierProbability(ratios.both_depths, k_depth);
-      const double P_p = AllInlierProbability(ratios.sampson, k_point);
-      const double qd = depth_ok ? (point_ok ? FirstSolverProbability(P_d, P_p) : 1.0) : 0.0;
-      required = RequiredIterations({qd, 1.0 - qd}, {P_d, P_p}, o_.confidence, o_.max_iterations);
+    if (local_best < 0) continue;
+    best_min_score = local_score;
+    best_min = models[local_best];
+    best_min_from_points = kind == MinimalSolverKind::kPoint;
+    if (lo_started) {
+      optimize_and_compete(best_min, best_min_score, best_min_from_points);
+    } else if (best_min_score < best_score) {
+      best_score = best_min_score;
+      best = best_min;
+      have_best = true;
     }
+    update_termination();
   }
+  if (!lo_started && have_best) optimize_and_compete(best_min, best_min_score, best_min_from_points);
   result.iterations = it;
 
   if (have_best) {
@@ -208,7 +354,11 @@ HybridEstimate Engine::Run() {
       // Sampson-only scoring leaves scale and shifts as the sample gave them: fit them on all
       // epipolar inliers for the output.
       FitDepthParameters(p_, inliers_.sampson, w_.use_shift, &best);
+    } else if (o_.final_depth_fit) {
+      FitDepthCorrections(&best, &best_score, &result);
     }
+    result.depth_observable = w_.use_reprojection && result.sigma_shift0 <= o_.max_depth_sigma &&
+                              result.sigma_shift1 <= o_.max_depth_sigma && result.sigma_scale <= o_.max_depth_sigma;
     result.model = best;
     result.score = best_score;
     const int n = p_.size();

@@ -29,6 +29,7 @@ MsacWeights MsacWeights::FromOptions(const HybridEstimatorOptions& o) {
   w.use_sampson = o.scoring != ScoringMode::kReprojectionOnly;
   w.sampson_weight = o.scoring == ScoringMode::kHybrid ? 2.0 * o.sampson_weight * w.reproj_sq / w.sampson_sq : 1.0;
   w.use_shift = o.estimate_shift;
+  w.cheirality = o.sampson_cheirality;
   return w;
 }
 
@@ -44,7 +45,10 @@ double ScoreModel(const RelposeProblem& p, const AffineDepthPose& model, const M
       if (d0[i] == d0[i]) score += std::min(res.Reprojection01(p.x0[i], p.x1[i], d0[i]), w.reproj_sq);
       if (d1[i] == d1[i]) score += std::min(res.Reprojection10(p.x0[i], p.x1[i], d1[i]), w.reproj_sq);
     }
-    if (w.use_sampson) score += w.sampson_weight * std::min(res.Sampson(p.x0[i], p.x1[i]), w.sampson_sq);
+    if (w.use_sampson) {
+      const double e = w.cheirality ? res.SampsonCheiral(p.x0[i], p.x1[i]) : res.Sampson(p.x0[i], p.x1[i]);
+      score += w.sampson_weight * std::min(e, w.sampson_sq);
+    }
     if ((i & 31) == 31 && score > stop_above) return score;
   }
   return score;
@@ -60,7 +64,10 @@ void ComputeInliers(const RelposeProblem& p, const AffineDepthPose& model, const
       if (p.d0[i] == p.d0[i] && res.Reprojection01(p.x0[i], p.x1[i], p.d0[i]) < w.reproj_sq) in->reproj0.push_back(i);
       if (p.d1[i] == p.d1[i] && res.Reprojection10(p.x0[i], p.x1[i], p.d1[i]) < w.reproj_sq) in->reproj1.push_back(i);
     }
-    if (w.use_sampson && res.Sampson(p.x0[i], p.x1[i]) < w.sampson_sq) in->sampson.push_back(i);
+    if (w.use_sampson) {
+      const double e = w.cheirality ? res.SampsonCheiral(p.x0[i], p.x1[i]) : res.Sampson(p.x0[i], p.x1[i]);
+      if (e < w.sampson_sq) in->sampson.push_back(i);
+    }
   }
 }
 

@@ -42,6 +42,22 @@ class ModelResiduals {
     return (ex * ex + ey * ey) * pixel_scale0_sq_;
   }
 
+  // Squared Sampson error; kInvalidError when the triangulated point lies behind either camera and its rays are
+  // not nearly parallel (sin^2 of the angle between them above kParallelSin2): the Sampson error cannot tell
+  // the four decompositions of an essential matrix apart, cheirality can. Nearly parallel rays (points near
+  // infinity, whose depth sign is noise) are not judged.
+  double SampsonCheiral(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1) const {
+    const Eigen::Vector3d v1(x1.x() * inv_f1_, x1.y() * inv_f1_, 1.0);
+    const Eigen::Vector3d Rv0 = R_ * Eigen::Vector3d(x0.x() * inv_f0_, x0.y() * inv_f0_, 1.0);
+    const double a = v1.squaredNorm(), b = v1.dot(Rv0), c = Rv0.squaredNorm();
+    const double e = v1.dot(t_), g = Rv0.dot(t_);
+    // lambda1 v1 - lambda0 R v0 = t in the least-squares sense; both numerators carry the sign (det >= 0).
+    const double num1 = c * e - b * g, num0 = b * e - a * g;
+    if ((num1 < 0.0 || num0 < 0.0) && a * c - b * b > kParallelSin2 * a * c) return kInvalidError;
+    return Sampson(x0, x1);
+  }
+  static constexpr double kParallelSin2 = 1e-6;  // rays within ~0.06 deg of each other
+
   // Squared Sampson error.
   double Sampson(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1) const {
     const Eigen::Vector3d Fx0 = F_.col(0) * x0.x() + F_.col(1) * x0.y() + F_.col(2);
@@ -67,8 +83,17 @@ struct MsacWeights {
   bool use_reprojection = true;
   bool use_sampson = true;
   bool use_shift = true;
+  bool cheirality = true;  // Sampson data: points behind a camera are outliers (SampsonCheiral)
 
   static MsacWeights FromOptions(const HybridEstimatorOptions& options);
+  // The same weights with both squared thresholds multiplied by `factor` (the relaxed thresholds of the local
+  // optimisation); the Sampson weight stays.
+  MsacWeights Relaxed(double factor) const {
+    MsacWeights w = *this;
+    w.reproj_sq *= factor;
+    w.sampson_sq *= factor;
+    return w;
+  }
 };
 
 // Hybrid MSAC score of a model over all correspondences: sum of truncated reprojection errors of the

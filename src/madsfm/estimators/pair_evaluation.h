@@ -35,7 +35,28 @@ struct PairResult {
   // Errors against T_0to1 / K when the pair has a ground truth; failures count as 180 deg and focal error 1.
   std::optional<double> rot_err_deg, trans_err_deg, focal_err;
   std::vector<std::string> notes;  // fallbacks taken, e.g. "no depth: point method"
+  // Depth corrections against the true depth maps (pairs with gt_depth_*_file and T_0to1, successful estimates):
+  // median relative error of the corrected priors at the true inliers after one common scale for both views
+  // (the gauge), and the same for the best per-view affine fit of the priors to the true depths (the error no
+  // estimator of this model can beat). See DepthCorrectionError.
+  std::optional<double> depth_err, depth_err_oracle;
+  std::optional<int> depth_support;  // true inliers with a prior and a true depth in both views
+  bool absurd_shift = false;  // |shift0| or |shift1| above 10x the median prior depth of its view
+  int seed = 0;               // the estimator seed of this run (bench)
 };
+
+struct DepthCorrectionError {
+  int support = 0;         // true inliers used
+  double estimate = 0.0;   // median |g z_hat / z - 1| over both views, g the least-squares gauge
+  double oracle = 0.0;     // median |(a_i d + b_i) / z - 1| of the per-view relative least-squares affine fit
+};
+
+// Measures the corrected priors (model: z_hat0 = d0 + shift0, z_hat1 = scale (d1 + shift1)) against true
+// depths z0 / z1 of the same matches (NaN where unknown). Only matches flagged in `use` count. Returns
+// std::nullopt with fewer than 8 usable matches.
+std::optional<DepthCorrectionError> MeasureDepthCorrection(const AffineDepthPose& model, const std::vector<double>& d0,
+                                                           const std::vector<double>& d1, const std::vector<double>& z0,
+                                                           const std::vector<double>& z1, const std::vector<char>& use);
 
 // Samples the depth maps at the matches (NaN where invalid); returns the per-match priors.
 void SamplePairDepths(const PairData& pair, std::vector<double>* d0, std::vector<double>* d1);

@@ -283,11 +283,21 @@ PairData ReadPairDirectory(const std::string& dir, const PairReadOptions& option
     *depths[i] = ReadDepthMap(*depth_path);
     depth_paths[i] = *depth_path;
   }
+  std::optional<DepthMap>* gt_depths[2] = {&pair.gt_depth0, &pair.gt_depth1};
+  std::string gt_paths[2];
+  for (int i = 0; i < 2; ++i) {
+    const std::optional<std::string> path = OptionalFile(info, "gt_depth_" + std::to_string(i) + "_file", dir, info_path);
+    if (!path) continue;
+    *gt_depths[i] = ReadDepthMap(*path);
+    gt_paths[i] = *path;
+  }
 
   ReadImageSize(info, 0, dir, info_path, pair.depth0, &pair.width0, &pair.height0);
   ReadImageSize(info, 1, dir, info_path, pair.depth1, &pair.width1, &pair.height1);
   if (pair.depth0) CheckAspectRatio(*pair.depth0, pair.width0, pair.height0, depth_paths[0]);
   if (pair.depth1) CheckAspectRatio(*pair.depth1, pair.width1, pair.height1, depth_paths[1]);
+  if (pair.gt_depth0) CheckAspectRatio(*pair.gt_depth0, pair.width0, pair.height0, gt_paths[0]);
+  if (pair.gt_depth1) CheckAspectRatio(*pair.gt_depth1, pair.width1, pair.height1, gt_paths[1]);
   return pair;
 }
 
@@ -350,6 +360,14 @@ void WritePairDirectory(const PairData& pair, const std::string& dir, const Pair
   if (pair.depth1) {
     info["depth_1_file"] = names.depth1;
     WriteDepth(*pair.depth1, Resolve(dir, names.depth1));
+  }
+  if (pair.gt_depth0) {
+    info["gt_depth_0_file"] = names.gt_depth0;
+    WriteDepth(*pair.gt_depth0, Resolve(dir, names.gt_depth0));
+  }
+  if (pair.gt_depth1) {
+    info["gt_depth_1_file"] = names.gt_depth1;
+    WriteDepth(*pair.gt_depth1, Resolve(dir, names.gt_depth1));
   }
   if (pair.width0 > 0 && pair.height0 > 0) info["image_size_0"] = {pair.width0, pair.height0};
   if (pair.width1 > 0 && pair.height1 > 0) info["image_size_1"] = {pair.width1, pair.height1};

@@ -6,6 +6,9 @@
 //   "T_0to1"                        4x4 (or 3x4) ground-truth pose, X1 = R X0 + t (optional)
 //   "matches_0_file", "matches_1_file"  N x 2 .npy files of pixel coordinates, pixel centres at integers (required)
 //   "depth_0_file", "depth_1_file"  depth maps (.npy / .pfm / COLMAP .bin) (optional)
+//   "gt_depth_0_file", "gt_depth_1_file"  true metric z-depth maps (0 = no surface) at any resolution of the image's
+//                                   aspect ratio (optional; `madsfm synth` writes them; bench measures the depth
+//                                   corrections against them)
 //   "image_size_0", "image_size_1"  [W, H] (optional; else the IHDR header of image0.png / image1.png, else the
 //                                   depth map's size)
 // File names are relative to the directory (absolute paths are kept). Every problem throws std::runtime_error
@@ -27,6 +30,7 @@ struct PairData {
   std::optional<Eigen::Matrix4d> T_0to1; // ground truth, X1 = R X0 + t
   std::vector<Eigen::Vector2d> p0, p1;   // matched pixel coordinates
   std::optional<DepthMap> depth0, depth1;  // absent when info.json names no depth file
+  std::optional<DepthMap> gt_depth0, gt_depth1;  // true metric depth (gt_depth_*_file), for evaluation only
   int width0 = 0, height0 = 0, width1 = 0, height1 = 0;  // image sizes
   // Non-fatal problems found while reading (e.g. a depth file named in info.json that does not exist, read with
   // PairReadOptions::allow_missing_depth); empty for a clean read.
@@ -58,10 +62,12 @@ struct PairFileNames {
   std::string matches1 = "matches_1.npy";
   std::string depth0 = "depth_0.npy";
   std::string depth1 = "depth_1.npy";
+  std::string gt_depth0 = "gt_depth_0.npy";
+  std::string gt_depth1 = "gt_depth_1.npy";
 };
 
 // Writes `pair` as a pair directory (created if needed): info.json with K0, K1, T_0to1 (if set), the file names,
-// and image_size_0/1 (if positive); matches as float64 N x 2 .npy; depth maps (if set) as float32 .npy.
+// and image_size_0/1 (if positive); matches as float64 N x 2 .npy; depth maps and true depth maps (if set) as float32 .npy.
 void WritePairDirectory(const PairData& pair, const std::string& dir, const PairFileNames& names = PairFileNames());
 
 }  // namespace madsfm

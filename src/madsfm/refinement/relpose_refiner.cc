@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 
 #include "madsfm/geometry/essential_matrix.h"
 
@@ -165,7 +166,7 @@ bool ForEachResidual(const RelposeProblem& p, const std::vector<int>& I0, const 
 }
 
 AffineDepthPose ApplyStep(const AffineDepthPose& m, const Vector11d& d, bool shared_focal) {
-  AffineDepthPose n = m;
+  AffineDepthPose n = m;  // d is in the original parameters (the basis change is undone by the caller)
   const Eigen::Vector3d w = d.segment<3>(kRot);
   const double angle = w.norm();
   if (angle > 0.0) n.R = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() * m.R;
@@ -208,6 +209,17 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
   free_param[kScale] = depth && !I1.empty();
   free_param[kF0] = options.refine_focal && p.mode != CameraMode::kCalibrated;
   free_param[kF1] = options.refine_focal && p.mode == CameraMode::kTwoFocal;
+  // Parameter basis: identity, except that with a fixed pose the rotation is fixed and the translation moves
+  // only along its direction (one parameter, in column kTrans).
+  Matrix11d B = Matrix11d::Identity();
+  if (!options.refine_pose) {
+    const double tn = model->t.norm();
+    if (!(tn > 0.0)) return false;
+    for (int j = 0; j < 3; ++j) free_param[kRot + j] = false;
+    free_param[kTrans + 1] = free_param[kTrans + 2] = false;
+    B.block<3, 3>(kTrans, kTrans).setZero();
+    B.block<3, 1>(kTrans, kTrans) = model->t / tn;
+  }
   int num_free = 0;
   for (bool b : free_param) num_free += b;
   const int num_residuals = 2 * static_cast<int>(I0.size() + I1.size()) + static_cast<int>(Is.size());
@@ -251,6 +263,10 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
       if (++filled == kBlock) flush();
     }, options.reprojection_weight);
     if (filled > 0) flush();
+    if (!options.refine_pose) {
+      JtJ = (B.transpose() * JtJ * B).eval();
+      Jtr = (B.transpose() * Jtr).eval();
+    }
     for (int j = 0; j < kRelposeNumParams; ++j) {
       if (!free_param[j]) {
         JtJ.row(j).setZero();
@@ -264,14 +280,18 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
     for (int attempt = 0; attempt < 10; ++attempt) {
       Matrix11d A = JtJ;
       for (int j = 0; j < kRelposeNumParams; ++j) A(j, j) += lambda * std::max(JtJ(j, j), 1e-12);
-      const Vector11d delta = A.ldlt().solve(-Jtr);
-      if (!delta.allFinite()) {
+      const Vector11d delta_basis = A.ldlt().solve(-Jtr);
+      if (!delta_basis.allFinite()) {
         lambda *= 10.0;
         continue;
       }
+      const Vector11d delta = options.refine_pose ? delta_basis : Vector11d(B * delta_basis);
       const AffineDepthPose candidate = ApplyStep(current, delta, shared);
-      if (candidate.scale > 0.0 && candidate.f0 > 0.0 && candidate.f1 > 0.0 && cost_of(candidate, &new_cost) &&
-          new_cost < cost) {
+      const bool shifts_ok = !(options.max_shift > 0.0) ||
+                             (std::abs(candidate.shift0) <= options.max_shift * options.shift_reference0 &&
+                              std::abs(candidate.shift1) <= options.max_shift * options.shift_reference1);
+      if (candidate.scale > 0.0 && candidate.f0 > 0.0 && candidate.f1 > 0.0 && shifts_ok &&
+          cost_of(candidate, &new_cost) && new_cost < cost) {
         current = candidate;
         improved = true;
         lambda = std::max(lambda * 0.1, 1e-10);
@@ -291,6 +311,36 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
   if (summary) {
     summary->final_cost = cost;
     summary->iterations = it;
+    // Covariance of the depth parameters at the solution.
+    Matrix11d JtJ = Matrix11d::Zero();
+    ForEachResidual<true>(p, I0, I1, Is, options.sampson_weight, current, [&](double, const Row11d& row) {
+      Row11d r = row;
+      if (shared) {
+        r(kF0) += r(kF1);
+        r(kF1) = 0.0;
+      }
+      JtJ.noalias() += r.transpose() * r;
+    }, options.reprojection_weight);
+    if (!options.refine_pose) JtJ = (B.transpose() * JtJ * B).eval();
+    std::vector<int> free_index;
+    for (int j = 0; j < kRelposeNumParams; ++j) {
+      if (free_param[j]) free_index.push_back(j);
+    }
+    const int nf = static_cast<int>(free_index.size());
+    Eigen::MatrixXd H(nf, nf);
+    for (int a = 0; a < nf; ++a)
+      for (int b = 0; b < nf; ++b) H(a, b) = JtJ(free_index[a], free_index[b]);
+    const double dof = std::max(1, num_residuals - nf);
+    const Eigen::MatrixXd C = H.ldlt().solve(Eigen::MatrixXd::Identity(nf, nf)) * (cost / dof);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    double* sig[3] = {&summary->sigma_shift0, &summary->sigma_shift1, &summary->sigma_scale};
+    const int which[3] = {kShift0, kShift1, kScale};
+    for (int k = 0; k < 3; ++k) {
+      *sig[k] = nan;
+      for (int a = 0; a < nf; ++a) {
+        if (free_index[a] == which[k]) *sig[k] = C(a, a) >= 0.0 ? std::sqrt(C(a, a)) : nan;
+      }
+    }
   }
   return true;
 }

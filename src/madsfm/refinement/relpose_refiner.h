@@ -19,6 +19,13 @@ struct RelposeRefinerOptions {
   bool refine_focal = true;     // false: focal lengths stay fixed (focal modes)
   bool refine_shift = true;     // false: shifts stay as they are (scale-only ablation)
   bool refine_depth = true;     // false: scale and shifts stay fixed (no depth data)
+  // false: R and the direction of t stay fixed, only |t| moves (with the depth parameters): fits the depth
+  // corrections to a given pose.
+  bool refine_pose = true;
+  // > 0: steps that make |shift0| or |shift1| exceed max_shift times shift_reference0 / shift_reference1 (e.g.
+  // the median prior of the view) are rejected, like steps that make an inlier's corrected depth non-positive.
+  double max_shift = 0.0;
+  double shift_reference0 = 1.0, shift_reference1 = 1.0;
   double function_tolerance = 1e-10;  // stop when the relative cost decrease is below this
 };
 
@@ -26,6 +33,9 @@ struct RelposeRefinerSummary {
   double initial_cost = 0.0;
   double final_cost = 0.0;
   int iterations = 0;
+  // Standard deviations of shift0, shift1 and scale at the solution from the Gauss-Newton covariance
+  // (final_cost / (residuals - free parameters) * (J^T J)^-1); NaN for parameters that are not free.
+  double sigma_shift0 = 0.0, sigma_shift1 = 0.0, sigma_scale = 0.0;
 };
 
 // Refines *model in place. The focal lengths are refined in the focal modes (one shared or two

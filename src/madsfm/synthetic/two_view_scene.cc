@@ -118,6 +118,7 @@ struct Scene {
   int background_surface = -1;
   int num_surfaces = 0;
   double sky_depth = 0.0;  // depth a "MDE model" predicts where there is no surface
+  bool planar = false;     // kPlanar: an empty room, camera 0 faces wall x = 0
 };
 
 constexpr double kMinT = 1e-9;
@@ -257,6 +258,14 @@ void BuildIndoorScene(Rng& rng, Scene* s) {
     }
   }
   s->sky_depth = 2.0 * room_size.norm();  // never seen from inside the room
+}
+
+void BuildPlanarScene(Rng& rng, Scene* s) {
+  const Eigen::Vector3d room_size(rng.Uniform(10.0, 20.0), rng.Uniform(10.0, 20.0), rng.Uniform(3.0, 4.0));
+  s->has_room = true;
+  s->room = MakeBox(s, 0.5 * room_size, room_size, 0.0);
+  s->planar = true;
+  s->sky_depth = 2.0 * room_size.norm();
 }
 
 void BuildOutdoorScene(Rng& rng, Scene* s) {
@@ -407,6 +416,14 @@ double GridPoints(const Scene& s, const Camera& cam, std::vector<Eigen::Vector3d
 
 bool PlaceCamera0(Rng& rng, const Scene& s, bool indoor, double max_roll, Camera* cam) {
   const double roll = DegToRad(rng.Uniform(-max_roll, max_roll));
+  if (indoor && s.planar) {  // face wall x = 0 from 1.5-5 m, level or looking down at the floor
+    const Eigen::Vector3d size = 2.0 * s.room.half;
+    const Eigen::Vector3d C(rng.Uniform(1.5, 5.0), rng.Uniform(0.35, 0.65) * size.y(), rng.Uniform(1.1, 1.8));
+    const Eigen::Vector3d target(0.0, C.y() + rng.Uniform(-1.0, 1.0), rng.Uniform(0.0, 2.0));
+    cam->C = C;
+    cam->R = LookAt(C, target, roll);
+    return true;
+  }
   if (indoor) {
     const Eigen::Vector3d size = 2.0 * s.room.half;
     const Eigen::Vector3d C(rng.Uniform(0.6, size.x() - 0.6), rng.Uniform(0.6, size.y() - 0.6),
@@ -653,7 +670,10 @@ struct PriorView {
 };
 
 // Renders the true depth of a view and turns it into a corrupted prior (steps 1-6 of the header).
-PriorView MakePrior(Rng& rng, const Scene& s, const Camera& cam, int mw, int mh, const DepthPriorCorruption& c) {
+// reference_scale > 0: draw a = reference_scale * r, r log-uniform within c.max_scale_ratio (see the header);
+// metric: nearly metric priors (a in [0.8, 1.25], |b| <= 5% of the median).
+PriorView MakePrior(Rng& rng, const Scene& s, const Camera& cam, int mw, int mh, const DepthPriorCorruption& c,
+                    double reference_scale, bool metric) {
   PriorView out;
   std::vector<double> z;
   std::vector<int> surface;
@@ -662,21 +682,27 @@ PriorView MakePrior(Rng& rng, const Scene& s, const Camera& cam, int mw, int mh,
   out.median_depth = SubsampledMedian(z, z);
   const double median = out.median_depth > 0.0 ? out.median_depth : 1.0;
 
+  // Per-view strengths drawn from their ranges.
+  const double distortion =
+      c.max_distortion > c.distortion ? rng.Uniform(c.distortion, c.max_distortion) : c.distortion;
+  const double offset_sigma = c.max_surface_offset_sigma > c.surface_offset_sigma
+                                  ? rng.Uniform(c.surface_offset_sigma, c.max_surface_offset_sigma)
+                                  : c.surface_offset_sigma;
   // 1. per-surface relative scales and offsets.
   std::vector<double> surface_scale(s.num_surfaces), surface_offset(s.num_surfaces);
   for (int i = 0; i < s.num_surfaces; ++i) {
     surface_scale[i] = 1.0 + c.surface_scale_sigma * rng.Normal();
-    surface_offset[i] = c.surface_offset_sigma * median * rng.Normal();
+    surface_offset[i] = offset_sigma * median * rng.Normal();
   }
   // 2. smooth distortion: eps(u, v) = polynomial + sinusoid in normalised map coordinates, and a monotone
   // compression (gamma > 0: expansion) of the depth range around the median.
   double poly[5];
   const double weights[5] = {0.5, 0.5, 0.25, 0.25, 0.25};  // u, v, uv, u^2 - 1/3, v^2 - 1/3
-  for (int k = 0; k < 5; ++k) poly[k] = c.distortion * weights[k] * rng.Uniform(-1.0, 1.0);
-  const double sin_amp = 0.5 * c.distortion * rng.Uniform(-1.0, 1.0);
+  for (int k = 0; k < 5; ++k) poly[k] = distortion * weights[k] * rng.Uniform(-1.0, 1.0);
+  const double sin_amp = 0.5 * distortion * rng.Uniform(-1.0, 1.0);
   const double sin_freq = rng.Uniform(0.5, 1.5), sin_dir = rng.Uniform(0.0, 2.0 * kPi);
   const double sin_phase = rng.Uniform(0.0, 2.0 * kPi);
-  const double gamma = c.distortion * rng.Uniform(-1.0, 1.0);
+  const double gamma = distortion * rng.Uniform(-1.0, 1.0);
   const double ku = kPi * sin_freq * std::cos(sin_dir), kv = kPi * sin_freq * std::sin(sin_dir);
   std::vector<double> su(mw), cu(mw), sv(mh), cv(mh);
   for (int x = 0; x < mw; ++x) {
@@ -744,13 +770,27 @@ PriorView MakePrior(Rng& rng, const Scene& s, const Camera& cam, int mw, int mh,
   // 5. the unknown affine transform into the output space, keeping every prior positive.
   const double q_min = *std::min_element(q.begin(), q.end());
   const double q_median = out.median_depth > 0.0 ? SubsampledMedian(q, z) : SubsampledMedian(q, q);
-  const double a = rng.LogUniform(c.min_scale, c.max_scale);
-  const double lower = -c.max_shift_fraction * q_median;
-  const double upper = std::min(c.max_shift_fraction * q_median, 0.9 * q_min);
+  double a;
+  if (metric) {
+    a = rng.LogUniform(0.8, 1.25);
+  } else if (reference_scale > 0.0 && c.max_scale_ratio > 0.0) {
+    a = reference_scale * rng.LogUniform(1.0 / c.max_scale_ratio, c.max_scale_ratio);
+  } else {
+    a = rng.LogUniform(c.min_scale, c.max_scale);
+  }
+  const double shift_fraction = metric ? std::min(0.05, c.max_shift_fraction) : c.max_shift_fraction;
+  const double lower = -shift_fraction * q_median;
+  const double upper = std::min(shift_fraction * q_median, 0.9 * q_min);
   const double b = rng.Uniform(lower, upper);
   for (double& v : q) v = (v - b) / a;
-  // 6. blur.
-  GaussianBlur(c.blur_sigma_px, mw, mh, &q);
+  // 6. blur (of the log prior: multiplicative smearing).
+  if (c.blur_log_depth) {
+    for (double& v : q) v = std::log(v);
+    GaussianBlur(c.blur_sigma_px, mw, mh, &q);
+    for (double& v : q) v = std::exp(v);
+  } else {
+    GaussianBlur(c.blur_sigma_px, mw, mh, &q);
+  }
 
   out.scale = a;
   out.shift = b;
@@ -806,6 +846,9 @@ void SyntheticPairOptions::Check() const {
   ThrowIf(!(max_roll_deg >= 0.0 && max_roll_deg <= 45.0), "max_roll_deg in [0, 45]");
   ThrowIf(!(min_overlap >= 0.0 && min_overlap <= 1.0), "min_overlap in [0, 1]");
   ThrowIf(num_matches < 0, "num_matches must be >= 0");
+  ThrowIf(max_num_matches < 0, "max_num_matches must be >= 0 (0 = num_matches)");
+  ThrowIf(!(min_edge_fraction >= 0.0 && min_edge_fraction <= max_edge_fraction && max_edge_fraction <= 1.0),
+          "need 0 <= min_edge_fraction <= max_edge_fraction <= 1");
   ThrowIf(!(min_outlier_ratio >= 0.0 && min_outlier_ratio <= max_outlier_ratio && max_outlier_ratio < 1.0),
           "need 0 <= min_outlier_ratio <= max_outlier_ratio < 1");
   ThrowIf(!(mismatch_fraction >= 0.0 && mismatch_fraction <= 1.0), "mismatch_fraction in [0, 1]");
@@ -820,6 +863,10 @@ void SyntheticPairOptions::Check() const {
   ThrowIf(!(c.wild_region_fraction >= 0.0 && c.wild_region_fraction <= 0.5), "prior.wild_region_fraction in [0, .5]");
   ThrowIf(!(c.noise >= 0.0 && c.noise <= 0.25), "prior.noise in [0, 0.25]");
   ThrowIf(!(c.blur_sigma_px >= 0.0 && c.blur_sigma_px <= 50.0), "prior.blur_sigma_px in [0, 50]");
+  ThrowIf(!(c.max_distortion >= 0.0 && c.max_distortion <= 1.0), "prior.max_distortion in [0, 1]");
+  ThrowIf(!(c.max_surface_offset_sigma >= 0.0), "prior.max_surface_offset_sigma must be >= 0");
+  ThrowIf(!(c.max_scale_ratio == 0.0 || c.max_scale_ratio >= 1.0), "prior.max_scale_ratio must be 0 or >= 1");
+  ThrowIf(!(c.metric_fraction >= 0.0 && c.metric_fraction <= 1.0), "prior.metric_fraction in [0, 1]");
 }
 
 AffineDepthPose SyntheticPair::TrueModel() const {
@@ -845,7 +892,7 @@ AffineDepthPose SyntheticPair::TrueModel() const {
 SyntheticPair GenerateTwoViewPair(const SyntheticPairOptions& options, uint64_t seed) {
   options.Check();
   Rng rng(seed);
-  const bool indoor = options.scene == SyntheticSceneType::kIndoor;
+  const bool indoor = options.scene != SyntheticSceneType::kOutdoor;  // kPlanar is an (empty) room
   const int width = options.image_width > 0 ? options.image_width : (indoor ? 640 : 1024);
   const int height = options.image_height > 0 ? options.image_height : (indoor ? 480 : 768);
   const double map_scale = options.depth_map_scale > 0.0 ? options.depth_map_scale : (indoor ? 0.5 : 0.25);
@@ -853,7 +900,9 @@ SyntheticPair GenerateTwoViewPair(const SyntheticPairOptions& options, uint64_t 
   const int mh = std::max(1, static_cast<int>(std::lround(height * map_scale)));
 
   Scene scene;
-  if (indoor) {
+  if (options.scene == SyntheticSceneType::kPlanar) {
+    BuildPlanarScene(rng, &scene);
+  } else if (indoor) {
     BuildIndoorScene(rng, &scene);
   } else {
     BuildOutdoorScene(rng, &scene);
@@ -893,9 +942,34 @@ SyntheticPair GenerateTwoViewPair(const SyntheticPairOptions& options, uint64_t 
 
   // Matches.
   const double ratio = rng.Uniform(options.min_outlier_ratio, options.max_outlier_ratio);
-  int num_outliers = static_cast<int>(std::lround(ratio * options.num_matches));
-  int num_inliers = options.num_matches - num_outliers;
+  const int num_matches = options.max_num_matches > options.num_matches
+                              ? rng.UniformInt(options.num_matches, options.max_num_matches)
+                              : options.num_matches;
+  int num_outliers = static_cast<int>(std::lround(ratio * num_matches));
+  int num_inliers = num_matches - num_outliers;
   out.pixel_noise = rng.Uniform(options.min_pixel_noise, options.max_pixel_noise);
+  // Depth-edge pixels of view 0 (map resolution) for the keypoints on object boundaries.
+  std::vector<int> edge_pixels;
+  int num_edge_inliers = 0;
+  if (options.max_edge_fraction > 0.0) {
+    const double edge_fraction = rng.Uniform(options.min_edge_fraction, options.max_edge_fraction);
+    std::vector<double> z;
+    std::vector<int> surface;
+    RenderDepth(scene, cam[0], mw, mh, &z, &surface);
+    auto jump = [&](size_t i, size_t j) {
+      return z[i] > 0.0 && z[j] > 0.0 && std::abs(z[i] - z[j]) > 0.05 * std::min(z[i], z[j]);
+    };
+    for (int v = 0; v < mh; ++v) {
+      for (int u = 0; u < mw; ++u) {
+        const size_t i = static_cast<size_t>(v) * mw + u;
+        if ((u + 1 < mw && jump(i, i + 1)) || (v + 1 < mh && jump(i, i + mw)) || (u > 0 && jump(i, i - 1)) ||
+            (v > 0 && jump(i, i - mw))) {
+          edge_pixels.push_back(static_cast<int>(i));
+        }
+      }
+    }
+    if (!edge_pixels.empty()) num_edge_inliers = static_cast<int>(std::lround(edge_fraction * num_inliers));
+  }
 
   struct Match {
     Eigen::Vector2d p0, p1;
@@ -904,12 +978,23 @@ SyntheticPair GenerateTwoViewPair(const SyntheticPairOptions& options, uint64_t 
     bool inlier = false;
   };
   std::vector<Match> matches;
-  matches.reserve(options.num_matches);
+  matches.reserve(num_matches);
   const long max_attempts = 2000 + 200L * num_inliers;
+  const double map_px_x = static_cast<double>(width) / mw, map_px_y = static_cast<double>(height) / mh;
   for (long attempt = 0; attempt < max_attempts && static_cast<int>(matches.size()) < num_inliers; ++attempt) {
     Match m;
     Eigen::Vector3d X;
-    if (!SampleCovisible(rng, scene, cam[0], cam[1], &X, &m.p0, &m.p1, &m.z0, &m.z1)) continue;
+    if (static_cast<int>(matches.size()) < num_edge_inliers && attempt < max_attempts / 2) {
+      // Within one map pixel of a depth edge.
+      const int i = edge_pixels[rng.UniformInt(0, static_cast<int>(edge_pixels.size()) - 1)];
+      const double u = i % mw, v = i / mw;
+      m.p0 = Eigen::Vector2d((u + 0.5 + rng.Uniform(-1.0, 1.0)) * map_px_x - 0.5,
+                             (v + 0.5 + rng.Uniform(-1.0, 1.0)) * map_px_y - 0.5);
+      if (!cam[0].InImage(m.p0) || !CastPixel(scene, cam[0], m.p0, &X, &m.z0)) continue;
+      if (!cam[1].Project(X, &m.p1, &m.z1) || !cam[1].InImage(m.p1) || !IsVisible(scene, cam[1], X)) continue;
+    } else if (!SampleCovisible(rng, scene, cam[0], cam[1], &X, &m.p0, &m.p1, &m.z0, &m.z1)) {
+      continue;
+    }
     m.X0 = cam[0].R * (X - cam[0].C);
     m.inlier = true;
     matches.push_back(m);
@@ -985,8 +1070,9 @@ SyntheticPair GenerateTwoViewPair(const SyntheticPairOptions& options, uint64_t 
   out.outlier_ratio = n > 0 ? 1.0 - static_cast<double>(out.num_inliers) / n : 0.0;
 
   // Depth priors.
-  PriorView view0 = MakePrior(rng, scene, cam[0], mw, mh, options.prior);
-  PriorView view1 = MakePrior(rng, scene, cam[1], mw, mh, options.prior);
+  const bool metric = options.prior.metric_fraction > 0.0 && rng.Uniform() < options.prior.metric_fraction;
+  PriorView view0 = MakePrior(rng, scene, cam[0], mw, mh, options.prior, 0.0, metric);
+  PriorView view1 = MakePrior(rng, scene, cam[1], mw, mh, options.prior, view0.scale, metric);
   out.prior_scale0 = view0.scale;
   out.prior_shift0 = view0.shift;
   out.prior_scale1 = view1.scale;
@@ -1013,11 +1099,86 @@ std::vector<SyntheticPair> GenerateTwoViewSet(const SyntheticPairOptions& option
 }
 
 std::vector<std::string> SyntheticPairPresetNames() {
-  return {"indoor_calibrated", "outdoor_calibrated", "indoor_shared_focal",
-          "indoor_two_focal",  "outdoor_two_focal",  "indoor_bad_prior"};
+  return {"indoor_calibrated",
+          "outdoor_calibrated",
+          "indoor_shared_focal",
+          "indoor_two_focal",
+          "outdoor_two_focal",
+          "indoor_bad_prior",
+          "hard_indoor_calibrated",
+          "hard_outdoor_calibrated",
+          "hard_planar_calibrated",
+          "hard_indoor_shared_focal",
+          "hard_outdoor_shared_focal",
+          "hard_planar_shared_focal",
+          "hard_indoor_two_focal",
+          "hard_outdoor_two_focal",
+          "hard_low_parallax_calibrated",
+          "hard_low_parallax_shared_focal"};
 }
 
+namespace {
+
+std::optional<SyntheticPairOptions> HardPreset(const std::string& name) {
+  SyntheticPairOptions o;
+  const std::string rest = name.substr(5);  // after "hard_"
+  std::string setup;
+  if (rest.rfind("indoor_", 0) == 0) {
+    o.scene = SyntheticSceneType::kIndoor;
+    setup = rest.substr(7);
+  } else if (rest.rfind("outdoor_", 0) == 0) {
+    o.scene = SyntheticSceneType::kOutdoor;
+    setup = rest.substr(8);
+  } else if (rest.rfind("planar_", 0) == 0) {
+    o.scene = SyntheticSceneType::kPlanar;
+    setup = rest.substr(7);
+  } else if (rest.rfind("low_parallax_", 0) == 0) {
+    o.scene = SyntheticSceneType::kIndoor;
+    o.baseline_min = 0.005;
+    o.baseline_max = 0.03;
+    setup = rest.substr(13);
+  } else {
+    return std::nullopt;
+  }
+  if (setup == "calibrated") {
+    o.camera_setup = SyntheticCameraSetup::kCalibrated;
+    o.calibrated_same_camera = false;
+  } else if (setup == "shared_focal") {
+    o.camera_setup = SyntheticCameraSetup::kSharedFocal;
+  } else if (setup == "two_focal") {
+    o.camera_setup = SyntheticCameraSetup::kTwoFocal;
+  } else {
+    return std::nullopt;
+  }
+  const bool outdoor = o.scene == SyntheticSceneType::kOutdoor;
+  o.image_width = outdoor ? 1024 : 640;
+  o.image_height = outdoor ? 768 : 480;
+  o.depth_map_scale = 0.5;
+  o.min_fov_deg = 50.0;
+  o.max_fov_deg = 100.0;
+  o.num_matches = 150;
+  o.max_num_matches = 2000;
+  o.min_pixel_noise = 0.5;
+  o.max_pixel_noise = 1.5;
+  o.min_outlier_ratio = 0.1;
+  o.max_outlier_ratio = 0.6;
+  o.min_edge_fraction = 0.03;
+  o.max_edge_fraction = 0.15;
+  DepthPriorCorruption& c = o.prior;
+  c.max_scale_ratio = 2.0;
+  c.metric_fraction = 0.5;
+  c.distortion = 0.02;
+  c.max_distortion = 0.10;
+  c.surface_offset_sigma = 0.01;
+  c.max_surface_offset_sigma = 0.05;
+  c.blur_log_depth = true;
+  return o;
+}
+
+}  // namespace
+
 std::optional<SyntheticPairOptions> SyntheticPairPreset(const std::string& name) {
+  if (name.rfind("hard_", 0) == 0) return HardPreset(name);
   SyntheticPairOptions o;
   o.scene = name.rfind("outdoor", 0) == 0 ? SyntheticSceneType::kOutdoor : SyntheticSceneType::kIndoor;
   o.image_width = o.scene == SyntheticSceneType::kIndoor ? 640 : 1024;

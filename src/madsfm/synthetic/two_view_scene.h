@@ -67,7 +67,10 @@
 
 namespace madsfm {
 
-enum class SyntheticSceneType { kIndoor, kOutdoor };
+// kPlanar: a large empty room (10-20 m) whose camera 0 faces one wall from 1.5-5 m, level or looking down at the
+// floor: the views see one dominant plane, often two (wall + floor), rarely three. The case that breaks point-only
+// solvers (the planar ambiguity of the essential matrix) and makes the priors the tie-breaker.
+enum class SyntheticSceneType { kIndoor, kOutdoor, kPlanar };
 
 // kCalibrated: K0, K1 known to the estimator (one shared camera unless calibrated_same_camera = false).
 // kSharedFocal: one camera (K0 == K1), focal unknown to the estimator. kTwoFocal: two cameras with independent
@@ -99,6 +102,19 @@ struct DepthPriorCorruption {
   double noise = 0.005;
   // Gaussian blur std. dev. in depth-map pixels (0 disables).
   double blur_sigma_px = 1.0;
+  // true: blur the logarithm of the prior (multiplicative smearing, as networks that regress log depth do).
+  bool blur_log_depth = false;
+
+  // Ranges drawn per view (each upper end used only when above the lower value above): distortion uniform in
+  // [distortion, max_distortion], surface offset sigma uniform in [surface_offset_sigma, max_surface_offset_sigma].
+  double max_distortion = 0.0;
+  double max_surface_offset_sigma = 0.0;
+  // > 0: the scale of view 1 is a_1 = a_0 * r with r log-uniform in [1 / max_scale_ratio, max_scale_ratio]
+  // (instead of an independent draw): views whose depth scales differ by at most that factor.
+  double max_scale_ratio = 0.0;
+  // Share of pairs whose priors are nearly metric instead: a_i log-uniform in [0.8, 1.25], |b_i| <= 5% of the
+  // median (both views of the pair).
+  double metric_fraction = 0.0;
 
   // The defaults: a decent modern MDE model.
   static DepthPriorCorruption Typical() { return DepthPriorCorruption(); }
@@ -140,6 +156,13 @@ struct SyntheticPairOptions {
   // the views overlap too little to find enough inliers (not observed with the presets), fewer matches are
   // returned with the same outlier ratio.
   int num_matches = 500;
+  // > num_matches: the number of matches is drawn per pair, uniform in [num_matches, max_num_matches].
+  int max_num_matches = 0;
+  // Share of the inliers whose keypoint in view 0 lies within one depth-map pixel of a depth discontinuity (a
+  // jump of more than 5% between neighbouring map pixels), uniform in [min_edge_fraction, max_edge_fraction] per
+  // pair: keypoints concentrate on object boundaries, where blurred priors mix foreground and background depth.
+  double min_edge_fraction = 0.0;
+  double max_edge_fraction = 0.0;
   double min_outlier_ratio = 0.1;
   double max_outlier_ratio = 0.6;
   // Share of the outliers that are mismatched features (p1 = projection of a different co-visible scene point);
@@ -211,6 +234,15 @@ std::vector<SyntheticPair> GenerateTwoViewSet(const SyntheticPairOptions& option
 //  * "indoor_two_focal":    as indoor_calibrated, two cameras with independent unknown focals (kTwoFocal).
 //  * "outdoor_two_focal":   as outdoor_calibrated, two cameras with independent unknown focals (kTwoFocal).
 //  * "indoor_bad_prior":    as indoor_calibrated with DepthPriorCorruption::Bad(): the point-only method should win.
+// The "hard_*" presets (issue 12) vary everything per pair: 150-2000 matches, pixel noise 0.5-1.5 px, outliers
+// 10-60%, horizontal FOV 50-100 deg, depth maps at half resolution, calibrated pairs with two different cameras,
+// per-view depth scales within 2x of each other, half of the pairs with nearly metric priors (scale 0.8-1.25),
+// smooth distortion 2-10%, per-surface offsets 1-5% of the median depth, blur in log depth, 3-15% of the keypoints
+// at depth edges:
+//  * "hard_indoor_calibrated", "hard_outdoor_calibrated", "hard_planar_calibrated" (one or two planes),
+//  * "hard_indoor_shared_focal", "hard_outdoor_shared_focal", "hard_planar_shared_focal",
+//  * "hard_indoor_two_focal", "hard_outdoor_two_focal",
+//  * "hard_low_parallax_calibrated", "hard_low_parallax_shared_focal": indoor, baseline 0.5-3% of the median depth.
 // Returns std::nullopt for an unknown name.
 std::optional<SyntheticPairOptions> SyntheticPairPreset(const std::string& name);
 std::vector<std::string> SyntheticPairPresetNames();
