@@ -36,6 +36,23 @@ struct EstimatorFlags {
     parser->AddDefault("confidence", &options.confidence, "Confidence of the adaptive stopping criterion.");
     parser->AddDefault("final_reprojection_weight", &options.final_reprojection_weight,
                        "Weight of the reprojection terms in a last refinement (1: the paper's joint cost only).");
+    parser->AddDefault("epipolar_check_ratio", &options.epipolar_check_ratio,
+                       "Calibrated: a point-only run replaces the hybrid pose when it has this many times its epipolar "
+                       "inliers (0: off).");
+    parser->AddDefault("sampson_cheirality", &options.sampson_cheirality,
+                       "Sampson data behind a camera count as outliers (1) or not (0).");
+    parser->AddDefault("num_lo_lsq_steps", &options.num_lo_lsq_steps,
+                       "Least-squares fits with a shrinking threshold per local-optimisation round.");
+    parser->AddDefault("lo_threshold_multiplier", &options.lo_threshold_multiplier,
+                       "Relaxation of the squared thresholds at the start of the local optimisation.");
+    parser->AddDefault("lo_starting_iterations", &options.lo_starting_iterations,
+                       "RANSAC iterations before the first local optimisation.");
+    parser->AddDefault("max_shift_ratio", &options.max_shift_ratio,
+                       "Bound of |shift| in median priors of its view (0: unbounded).");
+    parser->AddDefault("final_depth_fit", &options.final_depth_fit,
+                       "Fit scale and shifts to the final pose by least squares of the depth inliers (1) or not (0).");
+    parser->AddDefault("depth_fit_regression", &options.depth_fit_regression,
+                       "Then prefer a weighted regression of triangulated depths on the priors (1) or not (0).");
   }
 };
 

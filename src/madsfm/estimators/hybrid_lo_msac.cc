@@ -101,24 +101,50 @@ void Engine::FitDepthCorrections(AffineDepthPose* model, double* score, HybridEs
   ro.refine_pose = false;
   ro.refine_focal = false;
   const std::vector<int> none;
-  for (int round = 0; round < 2; ++round) {
-    if (inliers_.reproj0.empty() && inliers_.reproj1.empty()) return;
-    AffineDepthPose m = *model;
-    RelposeRefinerSummary summary;
-    if (!RefineRelpose(p_, inliers_.reproj0, inliers_.reproj1, none, ro, &m, &summary)) return;
-    const double s = ScoreModel(p_, m, w_);
-    if (!(s <= *score)) return;
-    *model = m;
-    *score = s;
-    result->sigma_shift0 = summary.sigma_shift0 / median_prior0_;
-    result->sigma_shift1 = summary.sigma_shift1 / median_prior1_;
-    result->sigma_scale = summary.sigma_scale / m.scale;
+  // (a) Least squares of the depth inliers' reprojection errors from the current depth parameters; its
+  // covariance says whether the priors determine the corrections at all.
+  AffineDepthPose m = *model;
+  double s = *score;
+  InlierSets in = inliers_;
+  for (int round = 0; round < 3; ++round) {
+    if (in.reproj0.empty() && in.reproj1.empty()) break;
+    AffineDepthPose refined = m;
+    RelposeRefinerSummary sum;
+    if (!RefineRelpose(p_, in.reproj0, in.reproj1, none, ro, &refined, &sum)) break;
+    const double sr = ScoreModel(p_, refined, w_);
+    if (!(sr <= s)) break;
+    m = refined, s = sr;
+    result->sigma_shift0 = sum.sigma_shift0 / median_prior0_;
+    result->sigma_shift1 = sum.sigma_shift1 / median_prior1_;
+    result->sigma_scale = sum.sigma_scale / m.scale;
     InlierSets check;
     ComputeInliers(p_, m, w_, &check);
-    const bool same = check.reproj0 == inliers_.reproj0 && check.reproj1 == inliers_.reproj1;
-    inliers_ = check;
-    if (same) return;
+    const bool same = check.reproj0 == in.reproj0 && check.reproj1 == in.reproj1;
+    in = check;
+    if (same) break;
   }
+  *model = m;
+  *score = s;
+  inliers_ = in;
+  if (!o_.depth_fit_regression) return;
+  // (b) The triangulated epipolar inliers regressed on their priors with weights that treat well-triangulated
+  // points alike: pixel residuals weigh near points far more than far ones, so (a) fits the near surfaces and
+  // lets the relative error of the far ones grow wherever the priors are not exactly affine. Taken when it keeps
+  // at least 90% of (a)'s depth inliers.
+  AffineDepthPose r = *model;
+  const double angular_noise = 1.0 / (p_.pixel_scale0 * r.f0);
+  if (!FitDepthParametersWeighted(p_, inliers_.sampson, w_.use_shift, angular_noise, &r)) return;
+  if (o_.max_shift_ratio > 0.0 && (std::abs(r.shift0) > o_.max_shift_ratio * median_prior0_ ||
+                                   std::abs(r.shift1) > o_.max_shift_ratio * median_prior1_)) {
+    return;
+  }
+  InlierSets rin;
+  ComputeInliers(p_, r, w_, &rin);
+  const size_t depth_a = inliers_.reproj0.size() + inliers_.reproj1.size();
+  if (rin.reproj0.size() + rin.reproj1.size() < 0.9 * depth_a) return;
+  *model = r;
+  *score = ScoreModel(p_, r, w_);
+  inliers_ = rin;
 }
 
 // The last refinement with down-weighted reprojection terms (options.final_reprojection_weight): the

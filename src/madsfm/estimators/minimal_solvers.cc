@@ -127,6 +127,31 @@ int MinimalSolvers::SolvePoint(std::vector<AffineDepthPose>* models) {
   return static_cast<int>(models->size());
 }
 
+namespace {
+
+void GatherNormalised(const RelposeProblem& p, const std::vector<int>& indices, const AffineDepthPose& model,
+                      std::vector<Eigen::Vector2d>* n0, std::vector<Eigen::Vector2d>* n1, std::vector<double>* d0,
+                      std::vector<double>* d1) {
+  for (auto* v : {n0, n1}) v->clear(), v->reserve(indices.size());
+  for (auto* v : {d0, d1}) v->clear(), v->reserve(indices.size());
+  for (int i : indices) {
+    n0->push_back(p.x0[i] / model.f0);
+    n1->push_back(p.x1[i] / model.f1);
+    d0->push_back(p.d0[i]);
+    d1->push_back(p.d1[i]);
+  }
+}
+
+}  // namespace
+
+bool FitDepthParametersWeighted(const RelposeProblem& p, const std::vector<int>& indices, bool shift,
+                                double angular_noise, AffineDepthPose* model) {
+  std::vector<Eigen::Vector2d> n0, n1;
+  std::vector<double> d0, d1;
+  GatherNormalised(p, indices, *model, &n0, &n1, &d0, &d1);
+  return FitAffineDepthToPoseWeighted(n0, n1, d0, d1, angular_noise, model, shift);
+}
+
 bool FitDepthParameters(const RelposeProblem& p, const std::vector<int>& indices, bool shift, AffineDepthPose* model) {
   std::vector<Eigen::Vector2d> n0, n1;
   std::vector<double> d0, d1;

@@ -45,4 +45,9 @@ class MinimalSolvers {
 bool FitDepthParameters(const RelposeProblem& problem, const std::vector<int>& indices, bool shift,
                         AffineDepthPose* model);
 
+// The same with FitAffineDepthToPoseWeighted (priors as the regressor, parallax weights): for a final pose.
+// angular_noise: matching noise in radians (e.g. 1 px / focal).
+bool FitDepthParametersWeighted(const RelposeProblem& problem, const std::vector<int>& indices, bool shift,
+                                double angular_noise, AffineDepthPose* model);
+
 }  // namespace madsfm

@@ -1,5 +1,6 @@
 #include "madsfm/solvers/affine_depth_fit.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
@@ -70,6 +71,100 @@ bool FitAffineDepthToPose(const std::vector<Eigen::Vector2d>& x0, const std::vec
   model->scale = scale;
   model->shift0 = shift0;
   model->shift1 = shift1;
+  return true;
+}
+
+namespace {
+
+// Weighted robust fit z ~ alpha d + beta (beta = 0 without shift) over (d, z, w); false when undetermined.
+bool WeightedLineFit(const std::vector<double>& d, const std::vector<double>& z, const std::vector<double>& w,
+                     bool fit_shift, double* alpha, double* beta) {
+  const size_t n = d.size();
+  if (n < 2) return false;
+  std::vector<double> robust(n, 1.0), rel(n);
+  double a = 0.0, b = 0.0;
+  for (int round = 0; round < 4; ++round) {
+    double sw = 0, sd = 0, sz = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const double wi = w[i] * robust[i];
+      sw += wi, sd += wi * d[i], sz += wi * z[i];
+    }
+    if (!(sw > 0.0)) return false;
+    double a_new, b_new;
+    if (fit_shift) {
+      const double md = sd / sw, mz = sz / sw;
+      double sdd = 0, sdz = 0;
+      for (size_t i = 0; i < n; ++i) {
+        const double wi = w[i] * robust[i];
+        sdd += wi * (d[i] - md) * (d[i] - md);
+        sdz += wi * (d[i] - md) * (z[i] - mz);
+      }
+      if (!(sdd > 1e-12 * sw * md * md)) return false;
+      a_new = sdz / sdd;
+      b_new = mz - a_new * md;
+    } else {
+      double sdd = 0, sdz = 0;
+      for (size_t i = 0; i < n; ++i) {
+        const double wi = w[i] * robust[i];
+        sdd += wi * d[i] * d[i];
+        sdz += wi * d[i] * z[i];
+      }
+      if (!(sdd > 0.0)) return false;
+      a_new = sdz / sdd;
+      b_new = 0.0;
+    }
+    if (!std::isfinite(a_new) || !std::isfinite(b_new)) return false;
+    a = a_new, b = b_new;
+    // Huber weights on the relative residuals, scaled by their weighted median absolute value.
+    for (size_t i = 0; i < n; ++i) rel[i] = std::abs(a * d[i] + b - z[i]) * std::sqrt(w[i]);  // whitened
+    std::vector<double> sorted = rel;
+    std::nth_element(sorted.begin(), sorted.begin() + n / 2, sorted.end());
+    const double scale = 1.4826 * sorted[n / 2];
+    if (!(scale > 0.0)) break;
+    const double c = 1.345 * scale;
+    for (size_t i = 0; i < n; ++i) robust[i] = rel[i] <= c ? 1.0 : c / rel[i];
+  }
+  *alpha = a;
+  *beta = b;
+  return true;
+}
+
+}  // namespace
+
+bool FitAffineDepthToPoseWeighted(const std::vector<Eigen::Vector2d>& x0, const std::vector<Eigen::Vector2d>& x1,
+                                  const std::vector<double>& d0, const std::vector<double>& d1, double angular_noise,
+                                  AffineDepthPose* model, bool fit_shift, double prior_sigma) {
+  const double t_norm = model->t.norm();
+  if (!(t_norm > 0.0) || !std::isfinite(t_norm) || !model->R.allFinite()) return false;
+  const Eigen::Vector3d t_unit = model->t / t_norm;
+  const size_t n = std::min(std::min(x0.size(), x1.size()), std::min(d0.size(), d1.size()));
+  std::vector<double> pd0, pz0, pw0, pd1, pz1, pw1;
+  for (size_t i = 0; i < n; ++i) {
+    const bool has0 = std::isfinite(d0[i]), has1 = std::isfinite(d1[i]);
+    if (!has0 && !has1) continue;
+    double z0, z1;
+    if (!TriangulateDepths(model->R, t_unit, x0[i], x1[i], &z0, &z1) || !(z0 > 0.0) || !(z1 > 0.0)) continue;
+    const Eigen::Vector3d r0 = model->R * Eigen::Vector3d(x0[i].x(), x0[i].y(), 1.0);
+    const Eigen::Vector3d r1(x1[i].x(), x1[i].y(), 1.0);
+    const double sin2 = r0.cross(r1).squaredNorm() / (r0.squaredNorm() * r1.squaredNorm());
+    // Weight of the relative residual, then of the absolute one (divided by z^2).
+    const double w = 1.0 / (prior_sigma * prior_sigma + angular_noise * angular_noise / std::max(sin2, 1e-300));
+    if (has0) pd0.push_back(d0[i]), pz0.push_back(z0), pw0.push_back(w / (z0 * z0));
+    if (has1) pd1.push_back(d1[i]), pz1.push_back(z1), pw1.push_back(w / (z1 * z1));
+  }
+  // z0 = (d0 + shift0) / k: alpha0 = 1 / k, beta0 = shift0 / k; z1 = scale (d1 + shift1) / k likewise.
+  double a0, b0, a1, b1;
+  if (!WeightedLineFit(pd0, pz0, pw0, fit_shift, &a0, &b0) || !WeightedLineFit(pd1, pz1, pw1, fit_shift, &a1, &b1)) {
+    return false;
+  }
+  if (!(a0 > 0.0) || !(a1 > 0.0)) return false;
+  const double k = 1.0 / a0;
+  const double scale = k * a1;
+  if (!std::isfinite(k) || !(scale > 0.0) || !std::isfinite(scale)) return false;
+  model->t = k * t_unit;
+  model->scale = scale;
+  model->shift0 = fit_shift ? b0 / a0 : 0.0;
+  model->shift1 = fit_shift ? b1 / a1 : 0.0;
   return true;
 }
 

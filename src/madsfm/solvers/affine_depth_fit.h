@@ -23,4 +23,17 @@ bool FitAffineDepthToPose(const std::vector<Eigen::Vector2d>& x0, const std::vec
                           const std::vector<double>& d0, const std::vector<double>& d1, AffineDepthPose* model,
                           bool fit_shift = true);
 
+// The same model fitted the other way round, for when the pose is final: the triangulated depths are regressed
+// on the priors, k z0_i = d0_i + shift0 and k z1_i = scale (d1_i + shift1), by weighted least squares of the
+// relative residuals with weights 1 / (prior_sigma^2 + (angular_noise / sin(ray angle))^2): the inverse of the
+// variance of a prior's relative misfit plus that of the triangulated depth's relative error. Well-triangulated
+// points count alike (as a fit against true depths would weigh them) and points near infinity hardly at all;
+// a few Huber-reweighted rounds make it robust. Priors are far less noisy than triangulated depths at small
+// parallax, so regressing depths on priors does not dilute the slope as the other direction does.
+// angular_noise: the matching noise in radians (pixel noise / focal length). Same contract as
+// FitAffineDepthToPose.
+bool FitAffineDepthToPoseWeighted(const std::vector<Eigen::Vector2d>& x0, const std::vector<Eigen::Vector2d>& x1,
+                                  const std::vector<double>& d0, const std::vector<double>& d1, double angular_noise,
+                                  AffineDepthPose* model, bool fit_shift = true, double prior_sigma = 0.03);
+
 }  // namespace madsfm
