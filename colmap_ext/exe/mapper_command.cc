@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "colmap_ext/exe/focal_estimator.h"
+#include "colmap_ext/pipeline/focal_estimator.h"
 #include "colmap_ext/exe/option_parser.h"
-#include "colmap_ext/exe/seed_model.h"
-#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/pipeline/seed_model.h"
+#include "colmap_ext/pipeline/two_view_estimator.h"
 #include "colmap_ext/model/reconstruction.h"
 
 extern char** environ;

@@ -13,7 +13,7 @@
 #include <stdexcept>
 
 #include "colmap_ext/exe/option_parser.h"
-#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/pipeline/two_view_estimator.h"
 #include "colmap_ext/shard/fingerprint.h"
 #include "colmap_ext/shard/shard_file.h"
 #include "colmap_ext/shard/shard_plan.h"

@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "colmap_ext/database/database.h"
-#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/pipeline/two_view_estimator.h"
 #include "colmap_ext/shard/shard_file.h"
 #include "colmap_ext/shard/shard_plan.h"
 #include "colmap_ext/synthetic/synthetic_project.h"

@@ -1,4 +1,4 @@
-#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/pipeline/two_view_estimator.h"
 
 #include <unistd.h>
 

@@ -1,4 +1,4 @@
-#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/pipeline/two_view_estimator.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "colmap_ext/database/database.h"
-#include "colmap_ext/exe/focal_estimator.h"
+#include "colmap_ext/pipeline/focal_estimator.h"
 #include "madsfm/estimators/relpose_problem.h"
 #include "madsfm/geometry/pose_error.h"
 #include "madsfm/io/depth_map_io.h"

@@ -1,4 +1,4 @@
-#include "colmap_ext/exe/focal_estimator.h"
+#include "colmap_ext/pipeline/focal_estimator.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "colmap_ext/exe/seed_model.h"
+#include "colmap_ext/pipeline/seed_model.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
