@@ -39,6 +39,5 @@ struct FocalChange {
 };
 
 std::vector<FocalChange> RunFocalEstimatorImpl(const FocalEstimatorOptions& options);
-int RunFocalEstimator(int argc, char** argv);
 
 }  // namespace madsfm
