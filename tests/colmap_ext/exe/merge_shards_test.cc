@@ -1,7 +1,7 @@
 // Sharded two_view_estimator runs + merge_shards (issue 7): the merged database equals the single-process run,
 // merging is idempotent, foreign shards are refused without a write, uncovered pairs are reported, a killed shard
 // task resumes, and a shard task never changes the database.
-#include "colmap_ext/exe/merge_shards_command.h"
+#include "colmap_ext/pipeline/merge_shards.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "colmap_ext/exe/merge_shards_command.h"
+#include "colmap_ext/pipeline/merge_shards.h"
 
 #include <unistd.h>
 
