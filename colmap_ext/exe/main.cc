@@ -10,7 +10,7 @@
 #include "colmap_ext/exe/focal_estimator_command.h"
 #include "colmap_ext/exe/import_pair_command.h"
 #include "colmap_ext/exe/mapper_command.h"
-#include "colmap_ext/pipeline/merge_shards.h"
+#include "colmap_ext/exe/merge_shards_command.h"
 #include "colmap_ext/exe/model_compare_command.h"
 #include "colmap_ext/exe/pair_commands.h"
 #include "colmap_ext/exe/render_scene_command.h"

@@ -1,5 +1,5 @@
-// `madsfm merge_shards --database_path DB SHARD...`: writes the results of `two_view_estimator --shard_path` runs
-// into the database (issue 7, docs/cluster.md).
+// The merge_shards step (`madsfm merge_shards`, colmap_ext/exe/merge_shards_command.h): writes the results of
+// `two_view_estimator --shard_path` runs into the database (issue 7, docs/cluster.md).
 #pragma once
 
 #include <string>
@@ -32,7 +32,5 @@ struct MergeShardsSummary {
 // again changes nothing. Throws std::runtime_error naming the file on: a file that is not a shard, a shard of
 // another database (fingerprint), other options or another split than the first file, a shard index given twice.
 MergeShardsSummary MergeShards(const MergeShardsOptions& options);
-
-int RunMergeShards(int argc, char** argv);
 
 }  // namespace madsfm
