@@ -64,7 +64,8 @@ std::vector<FocalChange> RunFocalEstimatorImpl(const FocalEstimatorOptions& opti
   for (const auto& im : db->ReadImages()) camera_of[im.image_id] = im.camera_id;
   std::map<colmap::camera_t, std::vector<FocalSample>> samples;
   for (const colmap::MadsfmPairRow& row : db->ReadMadsfmPairs()) {
-    if (row.status != 0 || row.camera_mode == static_cast<int>(CameraMode::kCalibrated)) continue;
+    // Only pairs estimated with depth priors are evidence (the point-only fallback's focal is not trusted).
+    if (row.status != 0 || row.method != 0 || row.camera_mode == static_cast<int>(CameraMode::kCalibrated)) continue;
     colmap::image_t i1, i2;
     colmap::PairIdToImagePair(row.pair_id, &i1, &i2);
     const double w = row.num_inliers;
@@ -82,13 +83,23 @@ std::vector<FocalChange> RunFocalEstimatorImpl(const FocalEstimatorOptions& opti
     c.camera_id = cam.camera_id;
     c.old_focal = c.new_focal = cam.intrinsics.FocalX();
     c.had_prior = cam.prior_focal_length;
-    const FocalAggregate a = AggregateFocal(samples[cam.camera_id]);
+    const std::vector<FocalSample>& cam_samples = samples[cam.camera_id];
+    const FocalAggregate a = AggregateFocal(cam_samples);
     c.num_pairs = a.num_used;
     c.spread = a.spread;
-    if (a.num_used >= options.min_num_pairs && a.num_used > 0 && (!cam.prior_focal_length || options.overwrite)) {
+    c.num_samples = static_cast<int>(cam_samples.size());
+    for (const FocalSample& s : cam_samples) {
+      c.num_agreeing += a.focal > 0 && std::abs(s.focal / a.focal - 1.0) <= options.prior_agreement;
+    }
+    if (a.num_used > 0 && (!cam.prior_focal_length || options.overwrite)) {
+      c.trusted = c.num_agreeing >= options.min_prior_pairs &&
+                  c.num_agreeing >= options.min_prior_fraction * c.num_samples;
+    }
+    // A known focal (--overwrite) is only replaced by a trusted estimate.
+    if (c.num_pairs >= options.min_num_pairs && c.num_pairs > 0 && (!cam.prior_focal_length || c.trusted)) {
       colmap::Camera updated = cam;
       updated.intrinsics.SetFocal(a.focal);
-      updated.prior_focal_length = true;
+      updated.prior_focal_length = c.trusted;
       db->UpdateCamera(updated);
       c.new_focal = a.focal;
       c.updated = true;
