@@ -17,7 +17,8 @@
 namespace madsfm {
 
 int RunRenderScene(int argc, char** argv) {
-  std::string output_path, scene = "room";
+  std::string output_path, scene = "room", motion = "arc";
+  double baseline_fraction = 0.08, per_image_fov_min = 0.0, per_image_fov_max = 0.0;
   int num_images = 10, seed = 0, image_width = 640, image_height = 480, num_threads = 0;
   double fov_deg = 0.0, prior_distortion = 0.03;
   OptionParser parser("render_scene",
@@ -32,6 +33,13 @@ int RunRenderScene(int argc, char** argv) {
   parser.AddDefault("image_width", &image_width, "Image width in pixels.");
   parser.AddDefault("image_height", &image_height, "Image height in pixels.");
   parser.AddDefault("fov_deg", &fov_deg, "Horizontal field of view in degrees (0: drawn in [60, 70] from the seed).");
+  parser.AddDefault("motion", &motion,
+                    "Camera motion (room): arc (60 deg around the target), sideways (a straight walk across the view\n"
+                    "      of baseline_fraction x the distance), handheld (centres in a ball of that diameter).");
+  parser.AddDefault("baseline_fraction", &baseline_fraction, "sideways / handheld: path length / distance to target.");
+  parser.AddDefault("per_image_fov_min", &per_image_fov_min,
+                    "per_image_fov_max > 0: each image has its own focal (horizontal FOV in [min, max] deg).");
+  parser.AddDefault("per_image_fov_max", &per_image_fov_max, "See per_image_fov_min.");
   parser.AddDefault("prior_distortion", &prior_distortion, "Magnitude of the smooth non-affine prior distortion.");
   parser.AddDefault("num_threads", &num_threads, "Rendering threads (0: all cores).");
   if (!parser.Parse(argc, argv, 2)) return EXIT_FAILURE;
@@ -45,6 +53,18 @@ int RunRenderScene(int argc, char** argv) {
     } else {
       throw std::invalid_argument("unknown --scene '" + scene + "' (room or street)");
     }
+    if (motion == "arc") {
+      options.motion = MultiViewMotion::kArc;
+    } else if (motion == "sideways") {
+      options.motion = MultiViewMotion::kSideways;
+    } else if (motion == "handheld") {
+      options.motion = MultiViewMotion::kHandheld;
+    } else {
+      throw std::invalid_argument("unknown --motion '" + motion + "' (arc, sideways or handheld)");
+    }
+    options.baseline_fraction = baseline_fraction;
+    options.per_image_fov_min_deg = per_image_fov_min;
+    options.per_image_fov_max_deg = per_image_fov_max;
     if (seed < 0) throw std::invalid_argument("--seed must be >= 0");
     options.num_images = num_images;
     options.image_width = image_width;
@@ -87,6 +107,7 @@ int RunRenderScene(int argc, char** argv) {
     nlohmann::json gt;
     gt["scene"] = MultiViewSceneTypeName(options.scene);
     gt["seed"] = seed;
+    gt["motion"] = MultiViewMotionName(options.motion);
     gt["pose_convention"] = "world -> camera: x_cam = R x_world + t; camera x right, y down, z forward; metres";
     gt["pixel_convention"] = "COLMAP: upper-left pixel centre at (0.5, 0.5); principal point (cx, cy)";
     gt["prior_convention"] =
