@@ -6,10 +6,10 @@
 #   * median relative-rotation error: madsfm <= plain + max(0.1 deg, 10% of plain's);
 #   * median focal error: madsfm <= max(plain's, 1%).
 # Prints a markdown row (scene | registered | median rot err | median focal err | time, both methods) and appends it
-# to WORK/../hard_scenes.md.
+# to $TABLE (default WORK/../hard_scenes.md).
 # Usage: hard_scene_mapper.sh MADSFM_BINARY WORK_DIR NAME RENDER_ARGS...
 # Environment: SINGLE_CAMERA (0: one camera per image; default 1), OUTLIER_RATIO (add outlier matches; default none),
-#              MADSFM_ARGS (extra options of madsfm mapper).
+#              MADSFM_ARGS (extra options of madsfm mapper), TABLE (file the row is appended to).
 set -euo pipefail
 MADSFM="$1"; WORK="$2"; NAME="$3"; shift 3
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -49,7 +49,7 @@ for d in "$WORK"/colmap/*/; do
 done
 compare "$best" "$WORK/colmap.json"
 compare "$WORK/madsfm/0" "$WORK/madsfm.json"
-python3 - "$WORK/madsfm.json" "$WORK/colmap.json" "$NAME" "$c0" "$c1" "$m1" "$(dirname "$WORK")/hard_scenes.md" \
+python3 - "$WORK/madsfm.json" "$WORK/colmap.json" "$NAME" "$c0" "$c1" "$m1" "${TABLE:-$(dirname "$WORK")/hard_scenes.md}" \
   "$(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["images"]))' "$WORK/scene/ground_truth.json")" \
   <<'PY'
 import json, math, sys
