@@ -194,13 +194,13 @@ MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<vo
     }
     if (a.rfind("--Mapper.", 0) == 0 && a.find('=') == std::string::npos) ++i;
   }
-  fs::create_directories(options.output_path);
   const fs::path out(options.output_path);
   MapperSummary s;
   const auto t0 = Clock::now();
 
   s.two_view = RunTwoViewEstimatorImpl(options.two_view);
   s.two_view_seconds = Seconds(t0);
+  fs::create_directories(out);  // after the database and depth checks: bad input leaves no output folder
   std::snprintf(buf, sizeof(buf),
                 "[1/4] two_view_estimator: %d pairs estimated (%d point-only), %d failed, %d already done (%.1f s)",
                 s.two_view.num_estimated, s.two_view.num_point_fallback, s.two_view.num_failed,
