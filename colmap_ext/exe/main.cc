@@ -7,16 +7,16 @@
 #include <utility>
 #include <vector>
 
-#include "colmap_ext/exe/pair_commands.h"
-#include "colmap_ext/exe/focal_estimator.h"
+#include "colmap_ext/exe/focal_estimator_command.h"
 #include "colmap_ext/exe/import_pair_command.h"
 #include "colmap_ext/exe/mapper_command.h"
 #include "colmap_ext/exe/merge_shards_command.h"
 #include "colmap_ext/exe/model_compare_command.h"
+#include "colmap_ext/exe/pair_commands.h"
 #include "colmap_ext/exe/render_scene_command.h"
-#include "colmap_ext/exe/seed_model.h"
+#include "colmap_ext/exe/seed_model_command.h"
 #include "colmap_ext/exe/synth_command.h"
-#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/exe/two_view_estimator_command.h"
 
 namespace {
 

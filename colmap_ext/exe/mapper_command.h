@@ -1,4 +1,5 @@
-// `madsfm mapper`: two_view_estimator + focal_estimator + seed_model, then `colmap mapper --input_path SEED`.
+// `madsfm mapper`: option parsing and printing around colmap_ext/pipeline/mapper.h (two_view_estimator,
+// focal_estimator, seed_model, colmap mapper with fallbacks).
 #pragma once
 
 namespace madsfm {

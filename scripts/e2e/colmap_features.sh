@@ -4,8 +4,9 @@
 # Usage: scripts/e2e/colmap_features.sh PROJECT_DIR
 # In:  PROJECT_DIR/images/*  (e.g. written by `madsfm render_scene --output_path PROJECT_DIR`).
 # Out: PROJECT_DIR/database.db (replaced) with one shared SIMPLE_RADIAL camera (no EXIF, so COLMAP guesses
-#      f = 1.2 max(W, H) and stores prior_focal_length = 0), keypoints, descriptors, matches and verified
-#      two-view geometries; logs in PROJECT_DIR/logs/. Quiet on success; on failure prints the log and exits 1.
+#      f = 1.2 max(W, H) and stores prior_focal_length = 0; SINGLE_CAMERA=0: one such camera per image),
+#      keypoints, descriptors, matches and verified two-view geometries; logs in PROJECT_DIR/logs/. Quiet on
+#      success; on failure prints the log and exits 1.
 #
 # Headless (checked with COLMAP 3.8, /usr/bin/colmap, Debian build without CUDA, no X server): SIFT on the GPU
 # (the default --SiftExtraction.use_gpu 1 / --SiftMatching.use_gpu 1) needs a Qt application and an OpenGL
@@ -13,7 +14,7 @@
 # QT_QPA_PLATFORM=offscreen "Check failed: context_.create()" in opengl_utils.cc. With use_gpu 0 (CPU SIFT,
 # VLFeat) neither command creates a Qt application or a GL context, so no display, Xvfb or GPU is needed.
 # QT_QPA_PLATFORM=offscreen is exported as well, so that no Qt code path tries to reach an X server.
-# Environment: COLMAP (binary, default colmap), NUM_THREADS (default -1 = all cores).
+# Environment: COLMAP (binary, default colmap), NUM_THREADS (default -1 = all cores), SINGLE_CAMERA (default 1).
 set -euo pipefail
 
 if [[ $# -ne 1 ]]; then
@@ -23,6 +24,7 @@ fi
 PROJECT_DIR=$1
 COLMAP=${COLMAP:-colmap}
 NUM_THREADS=${NUM_THREADS:--1}
+SINGLE_CAMERA=${SINGLE_CAMERA:-1}
 export QT_QPA_PLATFORM=offscreen
 
 if [[ ! -d "$PROJECT_DIR/images" ]]; then
@@ -45,7 +47,7 @@ run() {  # run LOG_NAME COMMAND...: quiet unless it fails
 run feature_extractor "$COLMAP" feature_extractor \
   --database_path "$PROJECT_DIR/database.db" \
   --image_path "$PROJECT_DIR/images" \
-  --ImageReader.single_camera 1 \
+  --ImageReader.single_camera "$SINGLE_CAMERA" \
   --ImageReader.camera_model SIMPLE_RADIAL \
   --SiftExtraction.use_gpu 0 \
   --SiftExtraction.num_threads "$NUM_THREADS"

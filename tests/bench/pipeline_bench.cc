@@ -6,7 +6,7 @@
 
 #include <filesystem>
 
-#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/pipeline/two_view_estimator.h"
 #include "colmap_ext/synthetic/synthetic_project.h"
 
 namespace madsfm {

@@ -15,8 +15,8 @@
 
 #include "colmap_ext/database/database.h"
 #include "colmap_ext/database/database_builder.h"
-#include "colmap_ext/exe/merge_shards_command.h"
-#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/pipeline/merge_shards.h"
+#include "colmap_ext/pipeline/two_view_estimator.h"
 #include "colmap_ext/shard/fingerprint.h"
 #include "colmap_ext/shard/shard_file.h"
 #include "colmap_ext/shard/shard_plan.h"

@@ -433,8 +433,8 @@ MultiViewCamera LookAt(const Eigen::Vector3d& C, const Eigen::Vector3d& target, 
 // ------------------------------------------------------------------------------------------------------------------
 // Scenes.
 
-void BuildRoom(Rng& rng, int num_images, double focal, int width, int height, Scene* s,
-               std::vector<MultiViewCamera>* cameras) {
+void BuildRoom(Rng& rng, int num_images, double focal, int width, int height, MultiViewMotion motion,
+               double baseline_fraction, Scene* s, std::vector<MultiViewCamera>* cameras) {
   const double hx = rng.Uniform(3.8, 4.4), y_near = -4.2, y_far = rng.Uniform(2.8, 3.4), h = rng.Uniform(2.8, 3.2);
   s->has_room = true;
   s->room = MakeBox(s, Eigen::Vector3d(0.0, 0.5 * (y_near + y_far), 0.5 * h),
@@ -488,6 +488,34 @@ void BuildRoom(Rng& rng, int num_images, double focal, int width, int height, Sc
   // Cameras on an arc of 60 degrees around the target, near the near wall, all looking at it.
   const Eigen::Vector3d target(rng.Uniform(-0.3, 0.3), rng.Uniform(0.3, 0.8), rng.Uniform(0.9, 1.2));
   const double radius = rng.Uniform(3.3, 3.7);
+  if (motion == MultiViewMotion::kSideways) {
+    // A straight walk along x at the arc's middle position, looking along +y at the target's height.
+    const double length = baseline_fraction * radius, z = rng.Uniform(1.45, 1.65);
+    for (int i = 0; i < num_images; ++i) {
+      const double x = target.x() - 0.5 * length + length * i / (num_images - 1);
+      const Eigen::Vector3d C(x, target.y() - radius, z + rng.Uniform(-0.02, 0.02) * length);
+      const double yaw = DegToRad(rng.Uniform(-1.0, 1.0)), pitch = DegToRad(rng.Uniform(-1.0, 1.0));
+      const Eigen::Vector3d dir(std::sin(yaw), std::cos(yaw), std::tan(pitch) + (target.z() - z) / radius);
+      cameras->push_back(LookAt(C, C + dir, DegToRad(rng.Uniform(-1.0, 1.0)), focal, width, height));
+    }
+    return;
+  }
+  if (motion == MultiViewMotion::kHandheld) {
+    const Eigen::Vector3d centre(target.x(), target.y() - radius, rng.Uniform(1.45, 1.65));
+    const double r = 0.5 * baseline_fraction * radius;
+    for (int i = 0; i < num_images; ++i) {
+      Eigen::Vector3d offset;
+      do {
+        offset = Eigen::Vector3d(rng.Uniform(-1.0, 1.0), rng.Uniform(-1.0, 1.0), rng.Uniform(-1.0, 1.0));
+      } while (offset.norm() > 1.0);
+      const Eigen::Vector3d C = centre + r * offset;
+      const double jitter = radius * std::tan(DegToRad(3.0));
+      const double dx = rng.Uniform(-jitter, jitter), dz = rng.Uniform(-jitter, jitter);
+      const Eigen::Vector3d aim = target + Eigen::Vector3d(dx, 0.0, dz);
+      cameras->push_back(LookAt(C, aim, DegToRad(rng.Uniform(-5.0, 5.0)), focal, width, height));
+    }
+    return;
+  }
   for (int i = 0; i < num_images; ++i) {
     const double phi = DegToRad(-30.0 + 60.0 * i / (num_images - 1) + rng.Uniform(-1.0, 1.0));
     const Eigen::Vector3d C(target.x() + radius * std::sin(phi), target.y() - radius * std::cos(phi),
@@ -591,6 +619,13 @@ void MultiViewSceneOptions::Check() const {
   if (!(prior_max_shift_fraction >= 0.0 && prior_max_shift_fraction < 1.0))
     fail("prior_max_shift_fraction must be in [0, 1)");
   if (num_threads < 0) fail("num_threads must be >= 0");
+  if (motion != MultiViewMotion::kArc && scene != MultiViewSceneType::kRoom)
+    fail("motion sideways / handheld needs the room scene");
+  if (!(baseline_fraction > 0.0 && baseline_fraction <= 1.0)) fail("baseline_fraction must be in (0, 1]");
+  if (!(per_image_fov_min_deg == 0.0 && per_image_fov_max_deg == 0.0) &&
+      !(per_image_fov_min_deg >= 10.0 && per_image_fov_max_deg >= per_image_fov_min_deg &&
+        per_image_fov_max_deg <= 150.0))
+    fail("per_image_fov_min_deg / per_image_fov_max_deg must be 0 or 10 <= min <= max <= 150");
 }
 
 Eigen::Vector3d MultiViewCamera::RayDirection(double x, double y) const {
@@ -607,6 +642,10 @@ bool MultiViewCamera::Project(const Eigen::Vector3d& X, Eigen::Vector2d* pixel, 
 
 const char* MultiViewSceneTypeName(MultiViewSceneType type) {
   return type == MultiViewSceneType::kRoom ? "room" : "street";
+}
+
+const char* MultiViewMotionName(MultiViewMotion motion) {
+  return motion == MultiViewMotion::kArc ? "arc" : motion == MultiViewMotion::kSideways ? "sideways" : "handheld";
 }
 
 struct MultiViewScene::Impl {
@@ -653,11 +692,18 @@ MultiViewScene::MultiViewScene(const MultiViewSceneOptions& options, uint64_t se
   const double fov = options.fov_deg > 0.0 ? options.fov_deg : rng.Uniform(60.0, 70.0);
   impl_->focal = 0.5 * options.image_width / std::tan(0.5 * DegToRad(fov));
   if (options.scene == MultiViewSceneType::kRoom) {
-    BuildRoom(rng, options.num_images, impl_->focal, options.image_width, options.image_height, &impl_->scene,
-              &impl_->cameras);
+    BuildRoom(rng, options.num_images, impl_->focal, options.image_width, options.image_height, options.motion,
+              options.baseline_fraction, &impl_->scene, &impl_->cameras);
   } else {
     BuildStreet(rng, options.num_images, impl_->focal, options.image_width, options.image_height, &impl_->scene,
                 &impl_->cameras);
+  }
+  if (options.per_image_fov_max_deg > 0.0) {
+    Rng focal_rng(SplitMix64(seed ^ 0x666F63616C73ULL));
+    for (MultiViewCamera& cam : impl_->cameras) {
+      const double f = focal_rng.Uniform(options.per_image_fov_min_deg, options.per_image_fov_max_deg);
+      cam.focal = 0.5 * options.image_width / std::tan(0.5 * DegToRad(f));
+    }
   }
   const double texture_scale = options.scene == MultiViewSceneType::kRoom ? 1.0 : 2.5;
   impl_->scene.styles.reserve(impl_->scene.num_surfaces);

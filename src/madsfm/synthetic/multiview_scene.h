@@ -54,6 +54,14 @@ namespace madsfm {
 
 enum class MultiViewSceneType { kRoom, kStreet };
 
+// How the cameras move (kRoom only; the street always walks along the street).
+//  * kArc: the default 60-degree arc around the target (see above).
+//  * kSideways: a straight walk across the viewing direction at the arc's distance d from the target, all cameras
+//    looking the same way (+-1 degree jitter); the whole path is baseline_fraction x d long (low parallax: 0.05-0.1).
+//  * kHandheld: small hand-held motion: camera centres uniform in a ball of radius baseline_fraction x d / 2 around
+//    the arc's middle position, each aimed at the target with up to 3 degrees of aim jitter and 5 degrees of roll.
+enum class MultiViewMotion { kArc, kSideways, kHandheld };
+
 struct MultiViewSceneOptions {
   MultiViewSceneType scene = MultiViewSceneType::kRoom;
   int num_images = 10;  // >= 2
@@ -61,6 +69,12 @@ struct MultiViewSceneOptions {
   int image_height = 480;
   // Horizontal field of view in degrees; 0 draws it uniformly in [60, 70] from the seed.
   double fov_deg = 0.0;
+  MultiViewMotion motion = MultiViewMotion::kArc;
+  double baseline_fraction = 0.08;  // kSideways, kHandheld: see MultiViewMotion
+  // > 0: every image has its own focal length, from a horizontal field of view drawn uniformly in
+  // [per_image_fov_min_deg, per_image_fov_max_deg] (a separate random stream: the scene and poses do not change).
+  double per_image_fov_min_deg = 0.0;
+  double per_image_fov_max_deg = 0.0;
   // Rays per pixel along each axis (1 = one ray through the pixel centre).
   int supersampling = 2;
   // Prior-map size = round(image size * depth_map_scale), in (0, 1].
@@ -121,7 +135,7 @@ class MultiViewScene {
   const MultiViewSceneOptions& options() const;
   int NumImages() const;
   const MultiViewCamera& Camera(int image) const;
-  double Focal() const;                     // shared focal length (pixels)
+  double Focal() const;                     // shared focal length (pixels); per-image focals: Camera(i).focal
   static std::string ImageName(int image);  // "img_000.png"
 
   // First surface hit along origin + s * direction (s > 0); false if none (sky). *s in units of |direction|.
@@ -139,5 +153,6 @@ class MultiViewScene {
 };
 
 const char* MultiViewSceneTypeName(MultiViewSceneType type);  // "room", "street"
+const char* MultiViewMotionName(MultiViewMotion motion);      // "arc", "sideways", "handheld"
 
 }  // namespace madsfm

@@ -27,7 +27,7 @@
 #include <thread>
 #include <vector>
 
-#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/pipeline/two_view_estimator.h"
 #include "madsfm/io/depth_map_io.h"
 #include "madsfm/synthetic/two_view_scene.h"
 #include "testing/colmap_database_builder.h"

@@ -1,7 +1,7 @@
 // Sharded two_view_estimator runs + merge_shards (issue 7): the merged database equals the single-process run,
 // merging is idempotent, foreign shards are refused without a write, uncovered pairs are reported, a killed shard
 // task resumes, and a shard task never changes the database.
-#include "colmap_ext/exe/merge_shards_command.h"
+#include "colmap_ext/pipeline/merge_shards.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "colmap_ext/database/database.h"
-#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/pipeline/two_view_estimator.h"
 #include "colmap_ext/shard/shard_file.h"
 #include "colmap_ext/shard/shard_plan.h"
 #include "colmap_ext/synthetic/synthetic_project.h"

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "colmap_ext/database/database.h"
-#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/pipeline/two_view_estimator.h"
 #include "colmap_ext/synthetic/synthetic_project.h"
 #include "testing/colmap_database_builder.h"
 

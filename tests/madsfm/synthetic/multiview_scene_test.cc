@@ -331,5 +331,59 @@ TEST(MultiViewScene, SurfacesAreTextured) {
   }
 }
 
+// Issue 14's hard motions: a sideways walk of baseline_fraction x the distance with parallel views, hand-held
+// centres inside a ball of that diameter, and per-image focal lengths in the requested FOV range that leave the
+// scene and the poses of the seed unchanged.
+TEST(MultiViewScene, SidewaysHandheldAndPerImageFocal) {
+  for (uint64_t seed : {0, 1, 2}) {
+    MultiViewSceneOptions o = SmallOptions(MultiViewSceneType::kRoom, 160, 120);
+    o.num_images = 8;
+    o.motion = MultiViewMotion::kSideways;
+    o.baseline_fraction = 0.08;
+    const MultiViewScene walk(o, seed);
+    const Eigen::Vector3d c0 = walk.Camera(0).Center(), c7 = walk.Camera(7).Center();
+    const double length = (c7 - c0).norm();  // 0.08 x the distance to the target, which is drawn in [3.3, 3.7] m
+    EXPECT_GT(length, 0.08 * 3.3 * 0.95);
+    EXPECT_LT(length, 0.08 * 3.7 * 1.05);
+    for (int i = 0; i < 8; ++i) {
+      const Eigen::Vector3d z0 = walk.Camera(0).R.row(2).transpose(), zi = walk.Camera(i).R.row(2).transpose();
+      EXPECT_LT(std::acos(std::clamp(z0.dot(zi), -1.0, 1.0)) * 180.0 / M_PI, 3.0) << "views stay parallel";
+    }
+    o.motion = MultiViewMotion::kHandheld;
+    o.baseline_fraction = 0.06;
+    o.num_images = 5;
+    const MultiViewScene hand(o, seed);
+    for (int i = 0; i < 5; ++i) {
+      for (int j = i + 1; j < 5; ++j) {
+        EXPECT_LE((hand.Camera(i).Center() - hand.Camera(j).Center()).norm(), 0.06 * 3.7 + 1e-9);
+      }
+    }
+    MultiViewSceneOptions arc = SmallOptions(MultiViewSceneType::kRoom, 160, 120);
+    const MultiViewScene shared(arc, seed);
+    arc.per_image_fov_min_deg = 85.0;
+    arc.per_image_fov_max_deg = 100.0;
+    const MultiViewScene per_image(arc, seed);
+    std::vector<double> focals;
+    for (int i = 0; i < per_image.NumImages(); ++i) {
+      const double fov = 2.0 * std::atan(0.5 * 160 / per_image.Camera(i).focal) * 180.0 / M_PI;
+      EXPECT_GE(fov, 85.0 - 1e-9);
+      EXPECT_LE(fov, 100.0 + 1e-9);
+      focals.push_back(per_image.Camera(i).focal);
+      EXPECT_TRUE(per_image.Camera(i).R.isApprox(shared.Camera(i).R));
+      EXPECT_TRUE(per_image.Camera(i).t.isApprox(shared.Camera(i).t));
+    }
+    std::sort(focals.begin(), focals.end());
+    EXPECT_GT(focals.back() / focals.front(), 1.02) << "the focals differ per image";
+  }
+  MultiViewSceneOptions bad;
+  bad.scene = MultiViewSceneType::kStreet;
+  bad.motion = MultiViewMotion::kSideways;
+  EXPECT_THROW(bad.Check(), std::invalid_argument);
+  bad = MultiViewSceneOptions();
+  bad.per_image_fov_min_deg = 90.0;
+  bad.per_image_fov_max_deg = 80.0;
+  EXPECT_THROW(bad.Check(), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace madsfm

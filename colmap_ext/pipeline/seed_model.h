@@ -28,6 +28,5 @@ struct SeedModelSummary {
 
 // Throws std::runtime_error when no pair qualifies (say why).
 SeedModelSummary RunSeedModelImpl(const SeedModelOptions& options);
-int RunSeedModel(int argc, char** argv);
 
 }  // namespace madsfm

@@ -1,5 +1,5 @@
-// `madsfm two_view_estimator`: the hybrid affine-depth estimator on every matched pair of a COLMAP database,
-// written back as two-view geometries (issue 5), and `madsfm restore`.
+// The two_view_estimator step: the hybrid affine-depth estimator on every matched pair of a COLMAP database,
+// written back as two-view geometries (issue 5). Command line: colmap_ext/exe/two_view_estimator_command.h.
 #pragma once
 
 #include <set>
@@ -45,9 +45,6 @@ struct TwoViewEstimatorSummary {
 
 // Runs the estimator; throws std::runtime_error / std::invalid_argument with a clear message on bad input.
 TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& options);
-
-int RunTwoViewEstimator(int argc, char** argv);
-int RunRestore(int argc, char** argv);
 
 // The string stored with every pair result; a rerun with a different one re-estimates.
 std::string OptionsFingerprint(const TwoViewEstimatorOptions& options);

@@ -1,4 +1,4 @@
-#include "colmap_ext/exe/focal_estimator.h"
+#include "colmap_ext/pipeline/focal_estimator.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,6 @@
 #include <stdexcept>
 
 #include "colmap_ext/database/database.h"
-#include "colmap_ext/exe/option_parser.h"
 #include "madsfm/estimators/relpose_problem.h"
 
 namespace madsfm {
@@ -65,7 +64,8 @@ std::vector<FocalChange> RunFocalEstimatorImpl(const FocalEstimatorOptions& opti
   for (const auto& im : db->ReadImages()) camera_of[im.image_id] = im.camera_id;
   std::map<colmap::camera_t, std::vector<FocalSample>> samples;
   for (const colmap::MadsfmPairRow& row : db->ReadMadsfmPairs()) {
-    if (row.status != 0 || row.camera_mode == static_cast<int>(CameraMode::kCalibrated)) continue;
+    // Only pairs estimated with depth priors are evidence (the point-only fallback's focal is not trusted).
+    if (row.status != 0 || row.method != 0 || row.camera_mode == static_cast<int>(CameraMode::kCalibrated)) continue;
     colmap::image_t i1, i2;
     colmap::PairIdToImagePair(row.pair_id, &i1, &i2);
     const double w = row.num_inliers;
@@ -83,13 +83,23 @@ std::vector<FocalChange> RunFocalEstimatorImpl(const FocalEstimatorOptions& opti
     c.camera_id = cam.camera_id;
     c.old_focal = c.new_focal = cam.intrinsics.FocalX();
     c.had_prior = cam.prior_focal_length;
-    const FocalAggregate a = AggregateFocal(samples[cam.camera_id]);
+    const std::vector<FocalSample>& cam_samples = samples[cam.camera_id];
+    const FocalAggregate a = AggregateFocal(cam_samples);
     c.num_pairs = a.num_used;
     c.spread = a.spread;
-    if (a.num_used >= options.min_num_pairs && a.num_used > 0 && (!cam.prior_focal_length || options.overwrite)) {
+    c.num_samples = static_cast<int>(cam_samples.size());
+    for (const FocalSample& s : cam_samples) {
+      c.num_agreeing += a.focal > 0 && std::abs(s.focal / a.focal - 1.0) <= options.prior_agreement;
+    }
+    if (a.num_used > 0 && (!cam.prior_focal_length || options.overwrite)) {
+      c.trusted = c.num_agreeing >= options.min_prior_pairs &&
+                  c.num_agreeing >= options.min_prior_fraction * c.num_samples;
+    }
+    // A known focal (--overwrite) is only replaced by a trusted estimate.
+    if (c.num_pairs >= options.min_num_pairs && c.num_pairs > 0 && (!cam.prior_focal_length || c.trusted)) {
       colmap::Camera updated = cam;
       updated.intrinsics.SetFocal(a.focal);
-      updated.prior_focal_length = true;
+      updated.prior_focal_length = c.trusted;
       db->UpdateCamera(updated);
       c.new_focal = a.focal;
       c.updated = true;
@@ -98,31 +108,6 @@ std::vector<FocalChange> RunFocalEstimatorImpl(const FocalEstimatorOptions& opti
   }
   txn.Commit();
   return changes;
-}
-
-int RunFocalEstimator(int argc, char** argv) {
-  FocalEstimatorOptions o;
-  OptionParser parser("focal_estimator",
-                      "Aggregates the pairwise focal estimates of two_view_estimator into one focal length per camera\n"
-                      "(weighted by inliers, outlier-rejecting) and writes it into the cameras table with\n"
-                      "prior_focal_length = 1, for cameras without a prior (all with --overwrite 1).");
-  parser.AddRequired("database_path", &o.database_path, "COLMAP database processed by two_view_estimator.");
-  parser.AddDefault("overwrite", &o.overwrite, "Also replace focal lengths that came with a prior.");
-  parser.AddDefault("min_num_pairs", &o.min_num_pairs, "Cameras with fewer usable pair estimates are left as they are.");
-  if (!parser.Parse(argc, argv, 2)) return EXIT_FAILURE;
-  if (parser.help_requested()) return EXIT_SUCCESS;
-  try {
-    const auto changes = RunFocalEstimatorImpl(o);
-    std::printf("| camera | old f | new f | pairs used | spread | updated |\n|---|---|---|---|---|---|\n");
-    for (const FocalChange& c : changes) {
-      std::printf("| %u | %.2f | %.2f | %d | %.2f%% | %s |\n", c.camera_id, c.old_focal, c.new_focal, c.num_pairs,
-                  100.0 * c.spread, c.updated ? "yes" : (c.had_prior && !o.overwrite ? "no (has prior)" : "no"));
-    }
-    return EXIT_SUCCESS;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "madsfm focal_estimator: error: %s\n", e.what());
-    return EXIT_FAILURE;
-  }
 }
 
 }  // namespace madsfm

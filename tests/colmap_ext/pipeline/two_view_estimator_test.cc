@@ -1,13 +1,14 @@
-#include "colmap_ext/exe/two_view_estimator.h"
+#include "colmap_ext/pipeline/two_view_estimator.h"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
 #include "colmap_ext/database/database.h"
-#include "colmap_ext/exe/focal_estimator.h"
+#include "colmap_ext/pipeline/focal_estimator.h"
 #include "madsfm/estimators/relpose_problem.h"
 #include "madsfm/geometry/pose_error.h"
 #include "madsfm/io/depth_map_io.h"
@@ -143,11 +144,56 @@ TEST(TwoViewEstimator, FocalEstimatorRecoversTheFocalLengths) {
   int good = 0;
   for (size_t k = 0; k < changes.size(); ++k) {
     EXPECT_TRUE(changes[k].updated);
+    EXPECT_EQ(changes[k].num_samples, 1);
+    EXPECT_FALSE(changes[k].trusted);
     good += std::abs(changes[k].new_focal / p.pairs[k].focal0 - 1.0) < 0.03;
   }
   EXPECT_GE(good, 5);
+  // One pair per camera is not enough evidence for a prior (min_prior_pairs = 5): the estimates are initial values
+  // only, which COLMAP refines.
   auto db = colmap::Database::Open(p.db, true);
-  for (const auto& cam : db->ReadCameras()) EXPECT_TRUE(cam.prior_focal_length);
+  for (const auto& cam : db->ReadCameras()) EXPECT_FALSE(cam.prior_focal_length);
+}
+
+// One camera shared by six pairs whose true focal lengths differ (fields of view drawn in [50, 100] deg): the six
+// estimates disagree, so the aggregate is only an initial value; with a tolerance that accepts every estimate the
+// same evidence becomes a prior. Cameras without pairs are left as they are.
+TEST(TwoViewEstimator, FocalBecomesAPriorOnlyWhenEnoughPairsAgree) {
+  const Project p = MakeProject("focal_trust", 6, false);
+  std::vector<double> focals;
+  for (const auto& pair : p.pairs) focals.push_back(pair.focal0);
+  std::sort(focals.begin(), focals.end());
+  int near_median = 0;
+  for (double f : focals) near_median += std::abs(f / focals[3] - 1.0) <= 0.03;
+  ASSERT_LT(near_median, 5) << "the six true focals must disagree for this test";
+  testing::ExecSql(p.db, "UPDATE images SET camera_id = 1");
+  RunTwoViewEstimatorImpl(Options(p));
+  const std::string before = testing::DumpTable(p.db, "cameras");
+  FocalEstimatorOptions fo;
+  fo.database_path = p.db;
+  auto changes = RunFocalEstimatorImpl(fo);
+  ASSERT_EQ(changes.size(), 6u);  // one camera per pair in the project; only camera 1 is used now
+  EXPECT_EQ(changes[0].num_samples, 6);
+  EXPECT_LT(changes[0].num_agreeing, 5);
+  EXPECT_TRUE(changes[0].updated);
+  EXPECT_FALSE(changes[0].trusted);
+  for (size_t k = 1; k < changes.size(); ++k) {
+    EXPECT_EQ(changes[k].num_samples, 0);
+    EXPECT_FALSE(changes[k].updated);
+  }
+  {
+    auto db = colmap::Database::Open(p.db, true);
+    EXPECT_FALSE(db->ReadCameras()[0].prior_focal_length);
+  }
+  fo.prior_agreement = 10.0;  // every estimate "agrees"
+  changes = RunFocalEstimatorImpl(fo);
+  EXPECT_EQ(changes[0].num_agreeing, 6);
+  EXPECT_TRUE(changes[0].trusted);
+  auto db = colmap::Database::Open(p.db, true);
+  const auto cameras = db->ReadCameras();
+  EXPECT_TRUE(cameras[0].prior_focal_length);
+  for (size_t k = 1; k < cameras.size(); ++k) EXPECT_FALSE(cameras[k].prior_focal_length);
+  EXPECT_NE(testing::DumpTable(p.db, "cameras"), before);
 }
 
 TEST(TwoViewEstimator, ImagesWithoutDepthFallBackToPoints) {
@@ -159,6 +205,24 @@ TEST(TwoViewEstimator, ImagesWithoutDepthFallBackToPoints) {
   EXPECT_EQ(s.num_estimated, 3);
   EXPECT_EQ(s.num_point_fallback, 3);
   EXPECT_EQ(s.num_images_with_depth, 0);
+}
+
+// Without depth evidence (every pair point-only) focal_estimator keeps COLMAP's cameras as they are.
+TEST(TwoViewEstimator, FocalEstimatorKeepsColmapsFocalWithoutDepthEvidence) {
+  const Project p = MakeProject("nodepth_focal", 3, false);
+  TwoViewEstimatorOptions o = Options(p);
+  o.depth_path = p.dir + "/empty_depths";
+  fs::create_directories(o.depth_path);
+  const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(o);
+  ASSERT_EQ(s.num_point_fallback, 3);
+  const std::string before = testing::DumpTable(p.db, "cameras");
+  FocalEstimatorOptions fo;
+  fo.database_path = p.db;
+  for (const FocalChange& c : RunFocalEstimatorImpl(fo)) {
+    EXPECT_EQ(c.num_samples, 0);
+    EXPECT_FALSE(c.updated);
+  }
+  EXPECT_EQ(testing::DumpTable(p.db, "cameras"), before);
 }
 
 TEST(TwoViewEstimator, BadInputGivesClearErrorsAndLeavesTheDatabaseUnchanged) {
