@@ -12,6 +12,7 @@
 #include "colmap_ext/exe/option_parser.h"
 #include "colmap_ext/io/png.h"
 #include "madsfm/io/depth_map_io.h"
+#include "madsfm/io/json_writer.h"
 #include "madsfm/synthetic/multiview_scene.h"
 
 namespace madsfm {
@@ -96,7 +97,7 @@ int RunRenderScene(int argc, char** argv) {
     const std::string gt_path = (root / "ground_truth.json").string();
     std::ofstream gt_file(gt_path);
     if (!gt_file) throw std::runtime_error("cannot write '" + gt_path + "'");
-    gt_file << gt.dump(2) << "\n";
+    gt_file << madsfm::DumpJson(gt, 2) << "\n";
     if (!gt_file) throw std::runtime_error("cannot write '" + gt_path + "'");
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::fprintf(stderr, "render_scene: wrote %d images of a %s scene (f = %.2f px) to %s in %.1f s\n",
