@@ -10,6 +10,7 @@ PACKAGES=(
   colmap python3-numpy
   clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-pytest
+  dpkg-dev
   slurmctld slurmd slurm-client munge
 )
 missing=()
