@@ -9,7 +9,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   colmap python3-numpy
   clang libclang-rt-14-dev
-  pybind11-dev python3-dev python3-pytest
+  pybind11-dev python3-dev python3-pytest python3-pip python3-setuptools python3-wheel
+  dpkg-dev
   slurmctld slurmd slurm-client munge
 )
 missing=()

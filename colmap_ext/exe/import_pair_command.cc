@@ -13,6 +13,7 @@
 #include "colmap_ext/database/database_schema.h"
 #include "colmap_ext/exe/option_parser.h"
 #include "madsfm/io/depth_map_io.h"
+#include "madsfm/io/json_writer.h"
 #include "madsfm/io/pair_directory.h"
 
 namespace madsfm {
@@ -109,7 +110,7 @@ int RunImportPair(int argc, char** argv) {
     for (sqlite3_stmt* st : {cam, img, kp, mt}) sqlite3_finalize(st);
     sqlite3_exec(db, "COMMIT", nullptr, nullptr, nullptr);
     sqlite3_close(db);
-    std::ofstream(fs::path(output_path) / "ground_truth.json") << gt.dump(2) << "\n";
+    std::ofstream(fs::path(output_path) / "ground_truth.json") << madsfm::DumpJson(gt, 2) << "\n";
     std::ofstream(fs::path(output_path) / "pairs.txt") << "image0.png image1.png\n";
     std::printf("import_pair: %zu matches -> %s\n", pair.p0.size(), output_path.c_str());
     return EXIT_SUCCESS;

@@ -10,6 +10,7 @@
 #include "colmap_ext/exe/option_parser.h"
 #include "colmap_ext/model/model_comparison.h"
 #include "colmap_ext/model/reconstruction.h"
+#include "madsfm/io/json_writer.h"
 
 namespace madsfm {
 namespace {
@@ -98,7 +99,7 @@ int RunModelCompare(int argc, char** argv) {
     const colmap::Reconstruction model = colmap::ReadReconstruction(input_path);
     const colmap::ModelComparison comparison = colmap::CompareToGroundTruth(model, ground_truth);
     if (output_format == "json") {
-      std::cout << ComparisonJson(comparison).dump(2) << std::endl;
+      std::cout << madsfm::DumpJson(ComparisonJson(comparison), 2) << std::endl;
     } else {
       std::cout << ComparisonText(comparison) << std::flush;
     }

@@ -17,6 +17,7 @@
 
 #include "colmap_ext/exe/option_parser.h"
 #include "madsfm/geometry/pose_error.h"
+#include "madsfm/io/json_writer.h"
 #include "madsfm/io/pair_directory.h"
 
 namespace madsfm {
@@ -187,7 +188,7 @@ int RunPair(int argc, char** argv) {
     }
     const PairResult r = EvaluatePair(pair, mode, method, flags.options);
     for (const std::string& note : r.notes) std::fprintf(stderr, "madsfm pair: note: %s\n", note.c_str());
-    std::cout << ResultJson(r).dump(2) << std::endl;
+    std::cout << DumpJson(ResultJson(r), 2) << std::endl;
     return r.success ? EXIT_SUCCESS : EXIT_FAILURE;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "madsfm pair: error: %s\n", e.what());
@@ -323,26 +324,29 @@ int RunBench(int argc, char** argv) {
       if (!csv) throw std::runtime_error("cannot write '" + csv_path + "'");
       csv << "pair,method,camera_mode,status,qw,qx,qy,qz,tx,ty,tz,f0,f1,scale,shift0,shift1,num_inliers,runtime_ms,"
              "rot_err_deg,trans_err_deg,focal_err,depth_err,depth_err_oracle,depth_support,seed\n";
-      csv.precision(10);
-      auto opt = [](const std::optional<double>& v) { return v ? std::to_string(*v) : std::string(); };
+      // Numbers as the shortest round-trip text (FormatDouble), as in the JSON outputs.
+      auto num = [](double v) { return FormatDouble(v); };
+      auto opt = [](const std::optional<double>& v) { return v ? FormatDouble(*v) : std::string(); };
       for (const PairResult& r : results) {
         const Eigen::Quaterniond q(r.model.R);
         csv << '"' << r.pair << "\"," << r.method << ',' << r.camera_mode << ',' << (r.success ? "ok" : "failed");
         if (r.success) {
-          csv << ',' << q.w() << ',' << q.x() << ',' << q.y() << ',' << q.z() << ',' << r.model.t.x() << ','
-              << r.model.t.y() << ',' << r.model.t.z() << ',' << r.model.f0 << ',' << r.model.f1 << ','
-              << r.model.scale << ',' << r.model.shift0 << ',' << r.model.shift1 << ',' << r.num_inliers_sampson;
+          for (double v : {q.w(), q.x(), q.y(), q.z(), r.model.t.x(), r.model.t.y(), r.model.t.z(), r.model.f0,
+                           r.model.f1, r.model.scale, r.model.shift0, r.model.shift1}) {
+            csv << ',' << num(v);
+          }
+          csv << ',' << r.num_inliers_sampson;
         } else {
           csv << ",,,,,,,,,,,,,0";
         }
-        csv << ',' << r.runtime_ms << ',' << opt(r.rot_err_deg) << ',' << opt(r.trans_err_deg) << ','
+        csv << ',' << num(r.runtime_ms) << ',' << opt(r.rot_err_deg) << ',' << opt(r.trans_err_deg) << ','
             << opt(r.focal_err) << ',' << opt(r.depth_err) << ',' << opt(r.depth_err_oracle) << ','
             << (r.depth_support ? std::to_string(*r.depth_support) : std::string()) << ',' << r.seed << '\n';
       }
       const std::string json_path = (std::filesystem::path(output_path) / "summary.json").string();
       std::ofstream js(json_path);
       if (!js) throw std::runtime_error("cannot write '" + json_path + "'");
-      js << summary_json.dump(2) << "\n";
+      js << DumpJson(summary_json, 2) << "\n";
       std::fprintf(stderr, "bench: wrote %s and %s\n", csv_path.c_str(), json_path.c_str());
     }
     return EXIT_SUCCESS;

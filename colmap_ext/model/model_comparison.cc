@@ -12,6 +12,7 @@
 #include <unordered_map>
 
 #include "madsfm/geometry/pose_error.h"
+#include "madsfm/io/json_writer.h"
 
 namespace madsfm::colmap {
 namespace {
@@ -132,7 +133,7 @@ void WriteGroundTruthJson(const GroundTruth& ground_truth, const std::string& pa
   }
   std::ofstream out(path, std::ios::trunc);
   if (!out) Fail(path, "cannot create ground-truth file");
-  out << json{{"images", images}}.dump(2) << "\n";
+  out << madsfm::DumpJson(json{{"images", images}}, 2) << "\n";
   out.close();
   if (!out) Fail(path, "write error");
 }

@@ -8,6 +8,7 @@
 
 #include "colmap_ext/io/png.h"
 #include "madsfm/io/depth_map_io.h"
+#include "madsfm/io/json_writer.h"
 
 namespace madsfm::colmap {
 
@@ -58,7 +59,7 @@ RenderedProjectSummary WriteRenderedProject(const MultiViewSceneOptions& options
   const std::string gt_path = (root / "ground_truth.json").string();
   std::ofstream gt_file(gt_path);
   if (!gt_file) throw std::runtime_error("cannot write '" + gt_path + "'");
-  gt_file << gt.dump(2) << "\n";
+  gt_file << madsfm::DumpJson(gt, 2) << "\n";
   if (!gt_file) throw std::runtime_error("cannot write '" + gt_path + "'");
   RenderedProjectSummary summary;
   summary.num_images = renderer.NumImages();

@@ -112,3 +112,11 @@ def sample_depth(depth_map, kpts, image_size):
     if size is None:
         raise ValueError("image_size must be (width, height), got None")
     return _madsfm._sample_depth(array, points, size[0], size[1], "depth_map")
+
+
+def _unpickle(cls, state):
+    """Rebuilds a pickled HybridEstimatorOptions or RelativePoseResult (their __reduce__ names this function, so
+    that every pickle protocol works: pybind11's own support aborts the interpreter with protocols 0 and 1)."""
+    obj = cls.__new__(cls)
+    obj.__setstate__(state)
+    return obj

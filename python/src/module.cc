@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -196,6 +197,14 @@ HybridEstimatorOptions OptionsFromKwargs(const py::kwargs& kwargs) {
   return o;
 }
 
+// pybind11's pickle support alone (__getstate__ / __setstate__) aborts the interpreter with pickle protocols 0 and 1
+// (copyreg cannot allocate a pybind11 instance). __reduce__ hands pickle madsfm._api._unpickle(cls, state) instead,
+// which allocates with cls.__new__ and then calls __setstate__: every protocol works.
+py::tuple Reduce(const py::object& self) {
+  return py::make_tuple(py::module_::import("madsfm._api").attr("_unpickle"),
+                        py::make_tuple(py::type::of(self), self.attr("__getstate__")()));
+}
+
 void BindOptions(py::module_& m) {
   py::enum_<SolverChoice>(m, "SolverChoice", "Which minimal solvers the RANSAC loop draws from.")
       .value("hybrid", SolverChoice::kHybrid)
@@ -233,6 +242,7 @@ void BindOptions(py::module_& m) {
                         for (auto item : d) SetOptionByName(&o, item.first.cast<std::string>(), item.second);
                         return o;
                       }));
+  options.def("__reduce__", [](py::object self) { return Reduce(self); });
   options.attr("__hash__") = py::none();  // mutable and compared by value
   options.attr("FIELDS") = py::tuple(py::cast(OptionNames()));
 #define MADSFM_PROPERTY(field)                                                                            \
@@ -340,6 +350,91 @@ std::string ResultRepr(const RelativePoseResult& r) {
   return out + ")";
 }
 
+// Pickling: every member of the result as it is stored (the model also when the estimate failed, the masks as bytes),
+// so that a round trip gives back the same object bit for bit.
+py::bytes MaskBytes(const std::vector<char>& mask) { return py::bytes(mask.data(), mask.size()); }
+
+std::vector<char> MaskFromBytes(const py::handle& b) {
+  const std::string s = b.cast<std::string>();
+  return std::vector<char>(s.begin(), s.end());
+}
+
+py::dict ResultState(const RelativePoseResult& r) {
+  const HybridEstimate& e = r.estimate;
+  py::dict d;
+  d["version"] = 1;
+  d["camera_mode"] = r.camera_mode;
+  d["method"] = r.method;
+  d["notes"] = r.notes;
+  d["num_matches"] = r.num_matches;
+  d["num_matches_with_depth"] = r.num_matches_with_depth;
+  d["success"] = e.success;
+  d["R"] = std::vector<double>(e.model.R.data(), e.model.R.data() + 9);  // column-major
+  d["t"] = std::vector<double>(e.model.t.data(), e.model.t.data() + 3);
+  d["scale"] = e.model.scale;
+  d["shift0"] = e.model.shift0;
+  d["shift1"] = e.model.shift1;
+  d["f0"] = e.model.f0;
+  d["f1"] = e.model.f1;
+  d["inliers_reproj0"] = MaskBytes(e.inliers_reproj0);
+  d["inliers_reproj1"] = MaskBytes(e.inliers_reproj1);
+  d["inliers_sampson"] = MaskBytes(e.inliers_sampson);
+  d["num_inliers_reproj0"] = e.num_inliers_reproj0;
+  d["num_inliers_reproj1"] = e.num_inliers_reproj1;
+  d["num_inliers_sampson"] = e.num_inliers_sampson;
+  d["score"] = e.score;
+  d["iterations"] = e.iterations;
+  d["num_lo"] = e.num_lo;
+  d["num_depth_samples"] = e.num_depth_samples;
+  d["num_point_samples"] = e.num_point_samples;
+  d["epipolar_check_switched"] = e.epipolar_check_switched;
+  d["runtime_ms"] = e.runtime_ms;
+  return d;
+}
+
+RelativePoseResult ResultFromState(const py::dict& d) {
+  auto get = [&](const char* key) -> py::handle {
+    if (!d.contains(key)) throw py::value_error(std::string("RelativePoseResult state has no '") + key + "'");
+    return d[key];
+  };
+  if (get("version").cast<int>() != 1) {
+    throw py::value_error("RelativePoseResult state version " + std::string(py::str(get("version"))) +
+                          " is not 1 (pickled by another madsfm version)");
+  }
+  RelativePoseResult r;
+  HybridEstimate& e = r.estimate;
+  r.camera_mode = get("camera_mode").cast<std::string>();
+  r.method = get("method").cast<std::string>();
+  r.notes = get("notes").cast<std::vector<std::string>>();
+  r.num_matches = get("num_matches").cast<int>();
+  r.num_matches_with_depth = get("num_matches_with_depth").cast<int>();
+  e.success = get("success").cast<bool>();
+  const auto R = get("R").cast<std::vector<double>>();
+  const auto t = get("t").cast<std::vector<double>>();
+  if (R.size() != 9 || t.size() != 3) throw py::value_error("RelativePoseResult state: R needs 9 values, t 3");
+  std::copy(R.begin(), R.end(), e.model.R.data());
+  std::copy(t.begin(), t.end(), e.model.t.data());
+  e.model.scale = get("scale").cast<double>();
+  e.model.shift0 = get("shift0").cast<double>();
+  e.model.shift1 = get("shift1").cast<double>();
+  e.model.f0 = get("f0").cast<double>();
+  e.model.f1 = get("f1").cast<double>();
+  e.inliers_reproj0 = MaskFromBytes(get("inliers_reproj0"));
+  e.inliers_reproj1 = MaskFromBytes(get("inliers_reproj1"));
+  e.inliers_sampson = MaskFromBytes(get("inliers_sampson"));
+  e.num_inliers_reproj0 = get("num_inliers_reproj0").cast<int>();
+  e.num_inliers_reproj1 = get("num_inliers_reproj1").cast<int>();
+  e.num_inliers_sampson = get("num_inliers_sampson").cast<int>();
+  e.score = get("score").cast<double>();
+  e.iterations = get("iterations").cast<int>();
+  e.num_lo = get("num_lo").cast<int>();
+  e.num_depth_samples = get("num_depth_samples").cast<int>();
+  e.num_point_samples = get("num_point_samples").cast<int>();
+  e.epipolar_check_switched = get("epipolar_check_switched").cast<bool>();
+  e.runtime_ms = get("runtime_ms").cast<double>();
+  return r;
+}
+
 void BindResult(py::module_& m) {
   py::class_<RelativePoseResult> result(
       m, "RelativePoseResult",
@@ -354,7 +449,9 @@ void BindResult(py::module_& m) {
           for (const auto& [name, getter] : ResultFields()) d[name] = getter(r);
           return d;
         }, "All attributes by name (numpy arrays for R, t and the masks).")
-      .def("__repr__", &ResultRepr);
+      .def("__repr__", &ResultRepr)
+      .def(py::pickle(&ResultState, &ResultFromState))
+      .def("__reduce__", [](py::object self) { return Reduce(self); });
 }
 
 // ---- estimation ----

@@ -138,7 +138,8 @@ def test_for_method_mirrors_the_cli_methods():
 
 def test_copy_pickle_and_equality():
     o = madsfm.HybridEstimatorOptions(seed=5, scoring="sampson_only", confidence=0.99)
-    for clone in (copy.copy(o), copy.deepcopy(o), pickle.loads(pickle.dumps(o))):
+    pickles = [pickle.loads(pickle.dumps(o, protocol=p)) for p in range(pickle.HIGHEST_PROTOCOL + 1)]
+    for clone in (copy.copy(o), copy.deepcopy(o), *pickles):
         assert clone == o and clone is not o
     clone = copy.copy(o)
     clone.seed = 6

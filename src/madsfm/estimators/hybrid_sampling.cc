@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "madsfm/geometry/portable_math.h"
+
 namespace madsfm {
 
 void IndexSampler::Sample(const std::vector<int>& pool, int k, int* out) {
@@ -21,7 +23,7 @@ void IndexSampler::Sample(const std::vector<int>& pool, int k, int* out) {
 }
 
 double AllInlierProbability(double inlier_ratio, int sample_size) {
-  return std::pow(std::clamp(inlier_ratio, 0.0, 1.0), sample_size);
+  return portable::PowInt(std::clamp(inlier_ratio, 0.0, 1.0), sample_size);
 }
 
 double FirstSolverProbability(double p0, double p1) {
@@ -35,7 +37,7 @@ int RequiredIterations(const std::vector<double>& q, const std::vector<double>& 
   for (size_t s = 0; s < q.size(); ++s) success += q[s] * P[s];
   if (success >= 1.0) return 1;
   if (!(success > 1e-12)) return max_iterations;
-  const double n = std::log(1.0 - confidence) / std::log(1.0 - success);
+  const double n = portable::Log(1.0 - confidence) / portable::Log(1.0 - success);  // CPU-independent
   if (!(n < max_iterations)) return max_iterations;
   return std::max(1, static_cast<int>(std::ceil(n)));
 }

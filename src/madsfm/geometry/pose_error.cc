@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "madsfm/geometry/portable_math.h"
+
 namespace madsfm {
 namespace {
 
@@ -17,7 +19,7 @@ double RotationErrorDeg(const Eigen::Matrix3d& R_est, const Eigen::Matrix3d& R_g
   // cos = (trace - 1) / 2, sin = |axial vector of the skew part|; atan2 is accurate at 0 and 180 deg.
   const double c = 0.5 * (D.trace() - 1.0);
   const double s = 0.5 * Eigen::Vector3d(D(2, 1) - D(1, 2), D(0, 2) - D(2, 0), D(1, 0) - D(0, 1)).norm();
-  const double angle = std::atan2(s, c) * kRadToDeg;
+  const double angle = portable::Atan2(s, c) * kRadToDeg;  // not std::atan2: same bits on every CPU
   return std::isfinite(angle) ? angle : 180.0;
 }
 
@@ -26,7 +28,7 @@ double TranslationErrorDeg(const Eigen::Vector3d& t_est, const Eigen::Vector3d& 
   const double n_est = t_est.norm(), n_gt = t_gt.norm();
   if (!(n_est > 0.0) || !(n_gt > 0.0)) return 180.0;
   const Eigen::Vector3d a = t_est / n_est, b = t_gt / n_gt;
-  const double theta = std::atan2(a.cross(b).norm(), a.dot(b)) * kRadToDeg;
+  const double theta = portable::Atan2(a.cross(b).norm(), a.dot(b)) * kRadToDeg;
   if (!std::isfinite(theta)) return 180.0;
   return std::min(theta, 180.0 - theta);
 }

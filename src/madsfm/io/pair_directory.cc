@@ -14,6 +14,7 @@
 
 #include "madsfm/io/depth_map_io.h"
 #include "madsfm/io/depth_sampling.h"
+#include "madsfm/io/json_writer.h"
 #include "madsfm/io/npy.h"
 
 namespace madsfm {
@@ -374,7 +375,7 @@ void WritePairDirectory(const PairData& pair, const std::string& dir, const Pair
 
   const std::string info_path = (fs::path(dir) / "info.json").string();
   std::ofstream out(info_path, std::ios::binary);
-  out << info.dump(4) << "\n";
+  out << DumpJson(info, 4) << "\n";
   out.close();
   if (!out) Fail("pair file", info_path, "write error");
 }

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "madsfm/geometry/essential_matrix.h"
+#include "madsfm/geometry/portable_math.h"
 
 namespace madsfm {
 namespace {
@@ -169,7 +170,16 @@ AffineDepthPose ApplyStep(const AffineDepthPose& m, const Vector11d& d, bool sha
   AffineDepthPose n = m;  // d is in the original parameters (the basis change is undone by the caller)
   const Eigen::Vector3d w = d.segment<3>(kRot);
   const double angle = w.norm();
-  if (angle > 0.0) n.R = Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() * m.R;
+  // Rodrigues with madsfm::portable's sin / cos (Eigen::AngleAxisd calls libm, whose result depends on the CPU).
+  if (angle > 0.0) {
+    double s, c;
+    portable::SinCos(angle, &s, &c);
+    const Eigen::Vector3d a = w / angle;
+    Eigen::Matrix3d K;
+    K << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
+    const Eigen::Matrix3d step = Eigen::Matrix3d::Identity() + s * K + (1.0 - c) * (K * K);
+    n.R = step * m.R;
+  }
   n.t = m.t + d.segment<3>(kTrans);
   n.shift0 = m.shift0 + d(kShift0);
   n.shift1 = m.shift1 + d(kShift1);

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "madsfm/solvers/univariate.h"
+#include "madsfm/geometry/portable_math.h"
 
 namespace madsfm {
 namespace {
@@ -338,7 +339,7 @@ int SolveEssential5pt(const std::vector<Eigen::Vector2d>& x0, const std::vector<
   // Substitute z = scale * w so that the end coefficients have equal magnitude: a polynomial with a dynamic range
   // of many orders of magnitude (roots far from 1) is harder for the Sturm root isolation.
   double roots[10];
-  double scale = std::pow(std::abs(poly[0] / poly[10]), 0.1);
+  double scale = portable::Pow(std::abs(poly[0] / poly[10]), 0.1);  // not std::pow: same bits on every CPU
   if (!(scale > 1e-8 && scale < 1e8)) scale = 1.0;  // also catches NaN
   double power = 1.0;
   for (int k = 0; k <= 10; ++k) {

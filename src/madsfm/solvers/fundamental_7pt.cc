@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "madsfm/geometry/portable_math.h"
+
 namespace madsfm {
 namespace {
 
@@ -105,10 +107,10 @@ int SolveCubic(double c3, double c2, double c1, double c0, double roots[3]) {
       roots[n++] = -a3;
     } else {
       const double arg = std::max(-1.0, std::min(1.0, -0.5 * q / (m * m * m)));
-      const double phi = std::acos(arg) / 3.0;
-      roots[n++] = 2.0 * m * std::cos(phi) - a3;
-      roots[n++] = 2.0 * m * std::cos(phi - 2.0 * M_PI / 3.0) - a3;
-      roots[n++] = 2.0 * m * std::cos(phi + 2.0 * M_PI / 3.0) - a3;
+      const double phi = portable::Acos(arg) / 3.0;  // not <cmath>: same bits on every CPU
+      roots[n++] = 2.0 * m * portable::Cos(phi) - a3;
+      roots[n++] = 2.0 * m * portable::Cos(phi - 2.0 * M_PI / 3.0) - a3;
+      roots[n++] = 2.0 * m * portable::Cos(phi + 2.0 * M_PI / 3.0) - a3;
     }
   }
   for (int i = 0; i < n; ++i) {
