@@ -81,9 +81,10 @@ TEST(TwoViewEstimator, EstimatesEveryPairAndWritesColmapRows) {
     const double rot = RotationErrorDeg(row->R, T.topLeftCorner<3, 3>());
     const double focal = std::abs(row->focal1 / p.pairs[k].focal0 - 1.0);
     accurate += rot < 1.0 && focal < 0.05;
-    // The inliers are (mostly) the true inliers: 30% outliers were generated.
-    EXPECT_GT(geometry->inlier_matches.size(), 0.6 * 300);
-    EXPECT_LT(geometry->inlier_matches.size(), 0.75 * 300);
+    // The inliers are (mostly) the true inliers. (The generator keeps the 30% outlier ratio, but a pair whose views
+    // overlap little gets fewer inliers than 70% of the 300 requested, so compare with its own count.)
+    const double true_inliers = p.pairs[k].num_inliers;
+    EXPECT_NEAR(static_cast<double>(geometry->inlier_matches.size()), true_inliers, std::max(5.0, 0.05 * true_inliers));
   }
   EXPECT_GE(accurate, 5);
 }

@@ -434,6 +434,7 @@ TEST(TwoViewScene, TypicalPriorsAreCloseAndBadPriorsAreFar) {
 
 TEST(TwoViewScene, EachPresetProducesValidPairs) {
   for (const std::string& name : SyntheticPairPresetNames()) {
+    if (name.rfind("hard_", 0) == 0) continue;  // per-pair ranges: HardPresetsDrawTheirRanges
     const SyntheticPairOptions o = Preset(name);
     const bool indoor = o.scene == SyntheticSceneType::kIndoor;
     double max_rotation = 0.0, min_baseline = 1e9, max_baseline = 0.0, min_median = 1e9, max_median = 0.0;
@@ -520,6 +521,66 @@ TEST(TwoViewScene, EachPresetProducesValidPairs) {
   }
 }
 
+// The hard presets (issue 12) draw match count, noise, cameras, depth scales, metric or affine priors and edge
+// keypoints per pair: check the ranges are honoured and actually used, and that the ground truth still holds.
+TEST(TwoViewScene, HardPresetsDrawTheirRanges) {
+  for (const std::string& name : SyntheticPairPresetNames()) {
+    if (name.rfind("hard_", 0) != 0) continue;
+    const SyntheticPairOptions o = Preset(name);
+    const bool outdoor = o.scene == SyntheticSceneType::kOutdoor;
+    int min_matches = 1 << 30, max_matches = 0, metric = 0, two_cameras = 0, near_edges = 0, inliers = 0;
+    const int n = 16;
+    for (int seed = 0; seed < n; ++seed) {
+      const SyntheticPair s = GenerateTwoViewPair(o, 500 + seed);
+      const PairData& p = s.pair;
+      const int m = static_cast<int>(p.p0.size());
+      min_matches = std::min(min_matches, m);
+      max_matches = std::max(max_matches, m);
+      EXPECT_LE(m, o.max_num_matches) << name;
+      EXPECT_GE(s.pixel_noise, 0.5);
+      EXPECT_LE(s.pixel_noise, 1.5);
+      EXPECT_EQ(p.width0, outdoor ? 1024 : 640);
+      EXPECT_EQ(p.depth0->width, p.width0 / 2);  // half resolution
+      two_cameras += p.K0 != p.K1;
+      // Depth scales within 2x of each other; nearly metric pairs have both in [0.8, 1.25].
+      const double ratio = s.prior_scale1 / s.prior_scale0;
+      EXPECT_GE(ratio, 0.5 - 1e-12) << name;
+      EXPECT_LE(ratio, 2.0 + 1e-12) << name;
+      metric += s.prior_scale0 >= 0.8 && s.prior_scale0 <= 1.25 && s.prior_scale1 >= 0.8 && s.prior_scale1 <= 1.25;
+      // Inliers: the true depth lifted with the true pose lands on p1 (within the noise), and some keypoints lie
+      // next to a depth jump of the true depth map.
+      const Eigen::Matrix3d R = p.T_0to1->block<3, 3>(0, 0);
+      const Eigen::Vector3d t = p.T_0to1->block<3, 1>(0, 3);
+      const DepthMap& z = s.true_depth_map0;
+      for (int i = 0; i < m; ++i) {
+        if (!s.is_inlier[i]) continue;
+        ++inliers;
+        const Eigen::Vector3d X1 = R * s.points0[i] + t;
+        const Eigen::Vector3d h = p.K1 * X1;
+        ASSERT_LT((h.head<2>() / h.z() - s.p1_clean[i]).norm(), 1e-6) << name;
+        const int u = std::clamp(static_cast<int>((p.p0[i].x() + 0.5) * z.width / p.width0), 1, z.width - 2);
+        const int v = std::clamp(static_cast<int>((p.p0[i].y() + 0.5) * z.height / p.height0), 1, z.height - 2);
+        double lo = 1e30, hi = 0.0;
+        for (int dv = -1; dv <= 1; ++dv) {
+          for (int du = -1; du <= 1; ++du) {
+            const double d = z.data[static_cast<size_t>(v + dv) * z.width + u + du];
+            if (d > 0.0) lo = std::min(lo, d), hi = std::max(hi, d);
+          }
+        }
+        near_edges += hi > 1.05 * lo;
+      }
+    }
+    std::printf("[%s] %d pairs: %d-%d matches, %d nearly metric, %d with two cameras, %.1f%% inliers near edges\n",
+                name.c_str(), n, min_matches, max_matches, metric, two_cameras, 100.0 * near_edges / inliers);
+    EXPECT_GE(min_matches, 100) << name;  // 150 requested; a pair with little overlap may get fewer
+    EXPECT_GT(max_matches - min_matches, 500) << name;
+    EXPECT_GE(metric, 3) << name;  // half of the pairs, drawn
+    EXPECT_LE(metric, n - 3) << name;
+    if (o.camera_setup != SyntheticCameraSetup::kSharedFocal) EXPECT_EQ(two_cameras, n) << name;
+    if (o.scene != SyntheticSceneType::kPlanar) EXPECT_GE(near_edges, 0.03 * inliers) << name;
+  }
+}
+
 TEST(TwoViewScene, PresetsAndOptionChecks) {
   for (const std::string& name : SyntheticPairPresetNames()) {
     const std::optional<SyntheticPairOptions> o = SyntheticPairPreset(name);
@@ -544,6 +605,10 @@ TEST(TwoViewScene, PresetsAndOptionChecks) {
   expect_invalid([](SyntheticPairOptions& o) { o.baseline_min = 0.0; });
   expect_invalid([](SyntheticPairOptions& o) { o.prior.min_scale = 0.0; });
   expect_invalid([](SyntheticPairOptions& o) { o.prior.blur_sigma_px = -1.0; });
+  expect_invalid([](SyntheticPairOptions& o) { o.max_num_matches = -1; });
+  expect_invalid([](SyntheticPairOptions& o) { o.max_edge_fraction = 1.5; });
+  expect_invalid([](SyntheticPairOptions& o) { o.prior.max_scale_ratio = 0.5; });
+  expect_invalid([](SyntheticPairOptions& o) { o.prior.metric_fraction = 2.0; });
 }
 
 }  // namespace
