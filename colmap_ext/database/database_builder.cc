@@ -8,9 +8,18 @@
 #include "colmap_ext/database/database_schema.h"
 
 namespace madsfm::colmap {
+namespace {
 
-DatabaseBuilder::DatabaseBuilder(const std::string& path) : path_(path) {
-  CreateColmap38Database(path);
+constexpr int kSensorTypeCamera = 0;  // COLMAP's SensorType::CAMERA (INVALID = -1, CAMERA = 0, IMU = 1)
+
+}  // namespace
+
+bool DatabaseBuilder::HasRigs() const {
+  return static_cast<int>(release_) >= static_cast<int>(ColmapRelease::k3_12);
+}
+
+DatabaseBuilder::DatabaseBuilder(const std::string& path, ColmapRelease release) : path_(path), release_(release) {
+  CreateColmapDatabase(path, release);
   if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE, nullptr) != SQLITE_OK) {
     const std::string msg = sqlite3_errmsg(db_);
     sqlite3_close(db_);
@@ -57,7 +66,12 @@ uint32_t DatabaseBuilder::AddCamera(int model_id, int width, int height, const s
   sqlite3_bind_blob(st, 4, params.data(), static_cast<int>(params.size() * sizeof(double)), SQLITE_TRANSIENT);
   sqlite3_bind_int(st, 5, prior_focal ? 1 : 0);
   Step(st, "insert camera");
-  return static_cast<uint32_t>(sqlite3_last_insert_rowid(db_));
+  const uint32_t camera_id = static_cast<uint32_t>(sqlite3_last_insert_rowid(db_));
+  if (HasRigs()) {
+    Exec("INSERT INTO rigs(rig_id, ref_sensor_id, ref_sensor_type) VALUES(" + std::to_string(camera_id) + ", " +
+         std::to_string(camera_id) + ", " + std::to_string(kSensorTypeCamera) + ")");
+  }
+  return camera_id;
 }
 
 uint32_t DatabaseBuilder::AddImage(const std::string& name, uint32_t camera_id) {
@@ -65,7 +79,14 @@ uint32_t DatabaseBuilder::AddImage(const std::string& name, uint32_t camera_id) 
   sqlite3_bind_text(st, 1, name.c_str(), -1, SQLITE_TRANSIENT);
   sqlite3_bind_int64(st, 2, camera_id);
   Step(st, "insert image '" + name + "'");
-  return static_cast<uint32_t>(sqlite3_last_insert_rowid(db_));
+  const uint32_t image_id = static_cast<uint32_t>(sqlite3_last_insert_rowid(db_));
+  if (HasRigs()) {
+    const std::string id = std::to_string(image_id), camera = std::to_string(camera_id);
+    Exec("INSERT INTO frames(frame_id, rig_id) VALUES(" + id + ", " + camera + "); "
+         "INSERT INTO frame_data(frame_id, data_id, sensor_id, sensor_type) VALUES(" + id + ", " + id + ", " + camera +
+         ", " + std::to_string(kSensorTypeCamera) + ")");
+  }
+  return image_id;
 }
 
 void DatabaseBuilder::AddKeypoints(uint32_t image_id, const std::vector<Eigen::Vector2d>& keypoints) {

@@ -373,7 +373,7 @@ TEST(Robustness, ReadOnlyDatabaseFile) {
 TEST(Robustness, KeypointBlobSizeMismatchNamesTheImage) {
   const Project p = MakeProject("kp_blob", 2);
   testing::ExecSql(p.db, "UPDATE keypoints SET rows = rows + 1 WHERE image_id = 3");
-  const std::string bug = ExpectRejected(p, {p.db, "image_id 3", "bytes"});
+  const std::string bug = ExpectRejected(p, {p.db, "keypoints of 'pair1_a.png' (image_id 3): blob has", "bytes"});
   if (!bug.empty()) ADD_FAILURE() << bug;
 }
 
@@ -386,14 +386,15 @@ TEST(Robustness, MatchesPointingPastTheKeypointsNameThePair) {
   testing::ExecSql(p.db, "UPDATE matches SET rows = 21, data = x'" + HexU32(data) + "' WHERE pair_id = " +
                              PairIdText(3, 4));
   const std::string bug =
-      ExpectRejected(p, {p.db, "pair " + PairIdText(3, 4), "images 3, 4", "point past the keypoints", "9999"});
+      ExpectRejected(p, {p.db, "pair " + PairIdText(3, 4) + " ('pair1_a.png' (image_id 3), 'pair1_b.png' (image_id 4))",
+                         "point past the keypoints", "9999"});
   if (!bug.empty()) ADD_FAILURE() << bug;
 }
 
 TEST(Robustness, MatchesBlobSizeMismatchNamesThePair) {
   const Project p = MakeProject("matches_blob", 2);
   testing::ExecSql(p.db, "UPDATE matches SET rows = rows + 1 WHERE pair_id = " + PairIdText(1, 2));
-  const std::string bug = ExpectRejected(p, {p.db, "images 1, 2"});
+  const std::string bug = ExpectRejected(p, {p.db, "('pair0_a.png' (image_id 1), 'pair0_b.png' (image_id 2))"});
   if (!bug.empty()) ADD_FAILURE() << bug;
 }
 
@@ -401,7 +402,7 @@ TEST(Robustness, UnsupportedCameraModelNamesTheCamera) {
   const Project p = MakeProject("fov_camera", 2);
   // FOV (id 7, 5 params).
   testing::ExecSql(p.db, "UPDATE cameras SET model = 7, params = x'" + std::string(80, '0') + "' WHERE camera_id = 2");
-  const std::string bug = ExpectRejected(p, {p.db, "camera 2", "FOV"});
+  const std::string bug = ExpectRejected(p, {p.db, "camera_id 2 (used by 'pair1_a.png', 'pair1_b.png')", "FOV"});
   if (!bug.empty()) ADD_FAILURE() << bug;
 }
 
