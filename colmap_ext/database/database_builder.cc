@@ -80,6 +80,7 @@ uint32_t DatabaseBuilder::AddImage(const std::string& name, uint32_t camera_id) 
   sqlite3_bind_int64(st, 2, camera_id);
   Step(st, "insert image '" + name + "'");
   const uint32_t image_id = static_cast<uint32_t>(sqlite3_last_insert_rowid(db_));
+  names_[image_id] = name;
   if (HasRigs()) {
     const std::string id = std::to_string(image_id), camera = std::to_string(camera_id);
     Exec("INSERT INTO frames(frame_id, rig_id) VALUES(" + id + ", " + camera + "); "
@@ -99,7 +100,10 @@ void DatabaseBuilder::AddKeypoints(uint32_t image_id, const std::vector<Eigen::V
   sqlite3_bind_int64(st, 1, image_id);
   sqlite3_bind_int(st, 2, static_cast<int>(keypoints.size()));
   sqlite3_bind_blob(st, 3, data.data(), static_cast<int>(data.size() * sizeof(float)), SQLITE_TRANSIENT);
-  Step(st, "insert keypoints of image " + std::to_string(image_id));
+  const auto name = names_.find(image_id);
+  Step(st, "insert keypoints of " +
+               (name == names_.end() ? std::string() : "'" + name->second + "' ") + "(image_id " +
+               std::to_string(image_id) + ")");
 }
 
 void DatabaseBuilder::AddMatches(uint32_t a, uint32_t b, const std::vector<std::array<uint32_t, 2>>& matches) {
@@ -113,7 +117,11 @@ void DatabaseBuilder::AddMatches(uint32_t a, uint32_t b, const std::vector<std::
   sqlite3_bind_int64(st, 1, static_cast<sqlite3_int64>(ImagePairToPairId(a, b)));
   sqlite3_bind_int(st, 2, static_cast<int>(matches.size()));
   sqlite3_bind_blob(st, 3, data.data(), static_cast<int>(data.size() * sizeof(uint32_t)), SQLITE_TRANSIENT);
-  Step(st, "insert matches of images " + std::to_string(a) + ", " + std::to_string(b));
+  const auto label = [&](uint32_t id) {
+    const auto name = names_.find(id);
+    return (name == names_.end() ? std::string() : "'" + name->second + "' ") + "(image_id " + std::to_string(id) + ")";
+  };
+  Step(st, "insert matches of " + label(a) + ", " + label(b));
 }
 
 }  // namespace madsfm::colmap

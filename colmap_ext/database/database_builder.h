@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,7 @@ class DatabaseBuilder {
   ColmapRelease release_;
   sqlite3* db_ = nullptr;
   sqlite3_stmt* statements_[4] = {nullptr, nullptr, nullptr, nullptr};
+  std::map<uint32_t, std::string> names_;  // image names, for messages
 };
 
 }  // namespace madsfm::colmap

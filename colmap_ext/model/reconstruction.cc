@@ -389,6 +389,11 @@ void ReadPoints3DText(const std::string& path, Reconstruction* model) {
   file.CheckHeaderCount(header_count, model->points3D.size(), "points");
 }
 
+// "'name' (image_id N)": how errors name an image of the model.
+std::string ImageLabel(uint32_t image_id, const ModelImage& image) {
+  return "'" + image.name + "' (image_id " + std::to_string(image_id) + ")";
+}
+
 // Cross-file references: cameras of images, 3-D points of points2D, and tracks.
 void CheckConsistency(const Reconstruction& model, const std::string& cameras_path, const std::string& images_path,
                       const std::string& points_path) {
@@ -399,7 +404,7 @@ void CheckConsistency(const Reconstruction& model, const std::string& cameras_pa
   std::map<uint32_t, std::vector<bool>> claimed;  // points2D already claimed by a track element
   for (const auto& [image_id, image] : model.images) {
     if (model.cameras.count(image.camera_id) == 0) {
-      Fail(images_path, "image " + std::to_string(image_id) + " uses camera " + std::to_string(image.camera_id) +
+      Fail(images_path, "image " + ImageLabel(image_id, image) + " uses camera_id " + std::to_string(image.camera_id) +
                             ", which " + cameras_file + " does not contain");
     }
     for (const uint64_t id : image.point3D_ids) num_observations += id != kInvalidPoint3DId;
@@ -417,7 +422,8 @@ void CheckConsistency(const Reconstruction& model, const std::string& cameras_pa
       if (point2D_idx >= it->second.point3D_ids.size() || it->second.point3D_ids[point2D_idx] != point_id) {
         Fail(points_path, "3-D point " + std::to_string(point_id) + " track element (" + std::to_string(image_id) +
                               ", " + std::to_string(point2D_idx) + ") does not match point2D " +
-                              std::to_string(point2D_idx) + " of that image in " + images_file);
+                              std::to_string(point2D_idx) + " of image " + ImageLabel(image_id, it->second) + " in " +
+                              images_file);
       }
       std::vector<bool>& flags = claimed[image_id];
       if (flags[point2D_idx]) {
@@ -436,11 +442,11 @@ void CheckConsistency(const Reconstruction& model, const std::string& cameras_pa
       const uint64_t id = image.point3D_ids[k];
       if (id == kInvalidPoint3DId || flags[k]) continue;
       if (model.points3D.count(id) == 0) {
-        Fail(images_path, "image " + std::to_string(image_id) + " point2D " + std::to_string(k) +
+        Fail(images_path, "image " + ImageLabel(image_id, image) + " point2D " + std::to_string(k) +
                               " refers to 3-D point " + std::to_string(id) + ", which " + points_file +
                               " does not contain");
       }
-      Fail(images_path, "image " + std::to_string(image_id) + " point2D " + std::to_string(k) +
+      Fail(images_path, "image " + ImageLabel(image_id, image) + " point2D " + std::to_string(k) +
                             " refers to 3-D point " + std::to_string(id) + ", whose track in " + points_file +
                             " does not list it");
     }
@@ -468,7 +474,7 @@ void CheckWritable(const Reconstruction& model) {
   }
   for (const auto& [id, image] : model.images) {
     if (image.points2D.size() != image.point3D_ids.size()) {
-      throw std::invalid_argument("image " + std::to_string(id) + ": points2D and point3D_ids differ in size");
+      throw std::invalid_argument("image " + ImageLabel(id, image) + ": points2D and point3D_ids differ in size");
     }
     if (image.name.empty() || image.name.find('\0') != std::string::npos) {
       throw std::invalid_argument("image " + std::to_string(id) + " has an empty name or one containing NUL");
