@@ -957,6 +957,50 @@ TEST(ColmapSchemas, BuilderWritesTrivialRigsAndFramesFrom312) {
   }
 }
 
+// What COLMAP 4.x does to a database of user_version <= 3130000 when it opens it (PostMigrateTables, re-implemented
+// here from its description in docs/formats.md): identity-with-zero-t or all-zero poses and all-zero F/E/H become
+// NULL. Everything madsfm wrote into a 3.8 database survives it, so the global mapper sees madsfm's poses.
+TEST(ColmapSchemas, MadsfmRowsSurviveColmap4Migration) {
+  TempDir dir;
+  const std::string path = dir.File("old.db");
+  CreateColmapDatabase(path, ColmapRelease::k3_8);
+  const Expected e = Populate(path, /*exotic_cameras=*/false);
+  const std::vector<TwoViewGeometryRow> rows = NewGeometries(e);
+  {
+    auto db = Database::Open(path);
+    for (const auto& row : rows) db->WriteTwoViewGeometry(row);
+  }
+  RawDb raw(path);
+  ASSERT_LE(raw.QueryInt("PRAGMA user_version"), 3130000);
+  const auto doubles = [&](const std::string& column, pair_t pair_id) {
+    const auto cell = raw.Snapshot("SELECT " + column + " FROM two_view_geometries WHERE pair_id = " +
+                                   std::to_string(pair_id))[0][0];
+    const std::string bytes = cell.substr(cell.find(':') + 1);
+    std::vector<double> v(bytes.size() / sizeof(double));
+    if (!v.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
+    return v;  // empty for NULL
+  };
+  int poses = 0;
+  for (const auto& row : rows) {
+    const std::vector<double> q = doubles("qvec", row.pair_id), t = doubles("tvec", row.pair_id);
+    ASSERT_EQ(q.empty(), t.empty());
+    if (!q.empty()) {
+      ++poses;
+      const bool identity = q == std::vector<double>{1, 0, 0, 0} && t == std::vector<double>(3, 0.0);
+      const bool zero = q == std::vector<double>(4, 0.0);
+      EXPECT_FALSE(identity || zero) << "COLMAP 4 would drop the pose of pair " << row.pair_id;
+      EXPECT_TRUE(ConfigHasPose(row.config));
+    }
+    for (const char* m : {"F", "E", "H"}) {
+      const std::vector<double> v = doubles(m, row.pair_id);
+      if (!v.empty()) {
+        EXPECT_NE(v, std::vector<double>(9, 0.0)) << "COLMAP 4 would drop " << m << " of pair " << row.pair_id;
+      }
+    }
+  }
+  EXPECT_EQ(poses, 2);
+}
+
 // COLMAP's camera blob (two_view_geometries.camera1 / camera2) round trip and its size checks.
 TEST(ColmapSchemas, CameraBlob) {
   Camera camera = MakeCamera(7, 4, 1920, 1080, {1500, 1490, 960, 540, -0.1, 0.01, 0.001, -0.0005}, true);
