@@ -95,12 +95,18 @@ class BinaryCursor {
   size_t pos_ = 0;
 };
 
+// "'name' (image_id N)": how errors name an image of the model.
+std::string ImageLabel(uint32_t image_id, const ModelImage& image) {
+  return "'" + image.name + "' (image_id " + std::to_string(image_id) + ")";
+}
+
+// Called once the image (name included) is read.
 void CheckFiniteQvecTvec(const ModelImage& image, const std::string& path) {
   if (!image.qvec.allFinite() || !image.tvec.allFinite()) {
-    Fail(path, "image " + std::to_string(image.image_id) + " has a non-finite pose");
+    Fail(path, "image " + ImageLabel(image.image_id, image) + " has a non-finite pose");
   }
   if (!(image.qvec.norm() > 1e-12)) {
-    Fail(path, "image " + std::to_string(image.image_id) + " has a zero quaternion");
+    Fail(path, "image " + ImageLabel(image.image_id, image) + " has a zero quaternion");
   }
 }
 
@@ -389,11 +395,6 @@ void ReadPoints3DText(const std::string& path, Reconstruction* model) {
   file.CheckHeaderCount(header_count, model->points3D.size(), "points");
 }
 
-// "'name' (image_id N)": how errors name an image of the model.
-std::string ImageLabel(uint32_t image_id, const ModelImage& image) {
-  return "'" + image.name + "' (image_id " + std::to_string(image_id) + ")";
-}
-
 // Cross-file references: cameras of images, 3-D points of points2D, and tracks.
 void CheckConsistency(const Reconstruction& model, const std::string& cameras_path, const std::string& images_path,
                       const std::string& points_path) {
@@ -456,20 +457,33 @@ void CheckConsistency(const Reconstruction& model, const std::string& cameras_pa
 // ---------------------------------------------------------------------------------------------------------------
 // Writing.
 
+// "camera_id N (used by 'a.png', 'b.png')": how the writers' errors name a camera of the model.
+std::string CameraLabel(const Reconstruction& model, uint32_t camera_id) {
+  std::string names;
+  int count = 0;
+  for (const auto& [image_id, image] : model.images) {
+    if (image.camera_id != camera_id) continue;
+    if (count < 3) names += (count > 0 ? ", '" : "'") + image.name + "'";
+    ++count;
+  }
+  if (count > 3) names += " and " + std::to_string(count - 3) + " more";
+  return "camera_id " + std::to_string(camera_id) + (count > 0 ? " (used by " + names + ")" : " (used by no image)");
+}
+
 void CheckWritable(const Reconstruction& model) {
   for (const auto& [id, camera] : model.cameras) {
     const int n = CameraModelNumParams(camera.intrinsics.model_id);
     if (n < 0) {
-      throw std::invalid_argument("camera " + std::to_string(id) + " has unknown model id " +
+      throw std::invalid_argument(CameraLabel(model, id) + " has unknown model id " +
                                   std::to_string(camera.intrinsics.model_id));
     }
     if (camera.intrinsics.params.size() != static_cast<size_t>(n)) {
-      throw std::invalid_argument("camera " + std::to_string(id) + " (" + CameraModelName(camera.intrinsics.model_id) +
+      throw std::invalid_argument(CameraLabel(model, id) + " (" + CameraModelName(camera.intrinsics.model_id) +
                                   ") has " + std::to_string(camera.intrinsics.params.size()) + " parameters, needs " +
                                   std::to_string(n));
     }
     if (camera.intrinsics.width < 0 || camera.intrinsics.height < 0) {
-      throw std::invalid_argument("camera " + std::to_string(id) + " has a negative size");
+      throw std::invalid_argument(CameraLabel(model, id) + " has a negative size");
     }
   }
   for (const auto& [id, image] : model.images) {

@@ -614,6 +614,22 @@ TEST(ReconstructionTest, WritersRejectUnrepresentableModels) {
   Reconstruction model = RandomModel(14, 3, 10);
   model.cameras.begin()->second.intrinsics.params.pop_back();
   EXPECT_THROW(WriteReconstructionBinary(model, tmp.path()), std::invalid_argument);
+  try {
+    WriteReconstructionBinary(model, tmp.path());
+  } catch (const std::invalid_argument& e) {
+    // The camera is named with the images that use it.
+    const uint32_t camera_id = model.cameras.begin()->first;
+    std::string first_user;
+    for (const auto& [id, image] : model.images) {
+      if (image.camera_id == camera_id) {
+        first_user = image.name;
+        break;
+      }
+    }
+    const std::string expected = "camera_id " + std::to_string(camera_id) +
+                                 (first_user.empty() ? " (used by no image)" : " (used by '" + first_user + "'");
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+  }
   model = RandomModel(14, 3, 10);
   model.images.begin()->second.point3D_ids.pop_back();
   EXPECT_THROW(WriteReconstructionBinary(model, tmp.path()), std::invalid_argument);
