@@ -632,6 +632,12 @@ void RunWriteRestoreScenario(const std::string& path, const Expected& e) {
   }
   EXPECT_EQ(IntegrityCheck(path), "ok");
   {
+    // While madsfm's rows are in, COLMAP's schema (tables, columns, indexes) and user_version are as they were.
+    const auto written = SnapshotColmapTables(path);
+    EXPECT_EQ(written[5], original[5]) << "schema changed";
+    EXPECT_EQ(written[6], original[6]) << "user_version changed";
+  }
+  {
     // Blob sizes and NULLs as COLMAP expects them.
     RawDb raw(path);
     const std::string where = " FROM two_view_geometries WHERE pair_id = ";

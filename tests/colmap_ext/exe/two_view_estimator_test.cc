@@ -125,6 +125,12 @@ TEST(TwoViewEstimator, WritesEstimatedCamerasWhereTheSchemaHasThem) {
     EXPECT_LT((q.toRotationMatrix() - row->R).norm(), 1e-9);
     EXPECT_NEAR(geometry->tvec->norm(), 1.0, 1e-12);
     EXPECT_LT((*geometry->tvec - row->t.normalized()).norm(), 1e-9);
+    // ... and against the ground truth X2 = R X1 + t of the synthetic pair (image 1 = the smaller id): the stored
+    // qvec / tvec are cam2_from_cam1, not its inverse.
+    const Eigen::Matrix4d& T = *p.pairs[k].pair.T_0to1;
+    EXPECT_LT(RotationErrorDeg(q.toRotationMatrix(), T.topLeftCorner<3, 3>()), 2.0);
+    const Eigen::Vector3d t_true = T.topRightCorner<3, 1>().normalized();
+    EXPECT_GT(geometry->tvec->dot(t_true), std::cos(5.0 * M_PI / 180.0));
   }
   EXPECT_NE(testing::DumpTable(p.db, "sqlite_master").find("madsfm"), std::string::npos);
   db.reset();
