@@ -28,7 +28,8 @@ struct Project {
   std::vector<SyntheticPair> pairs;
 };
 
-Project MakeProject(const std::string& name, int num_pairs, bool calibrated) {
+Project MakeProject(const std::string& name, int num_pairs, bool calibrated,
+                    colmap::ColmapRelease release = colmap::ColmapRelease::k3_8) {
   Project p;
   p.dir = (fs::temp_directory_path() / ("madsfm_tve_" + name)).string();
   fs::remove_all(p.dir);
@@ -41,6 +42,7 @@ Project MakeProject(const std::string& name, int num_pairs, bool calibrated) {
   o.calibrated = calibrated;
   o.seed = 7;
   o.keep_pairs = true;
+  o.colmap_release = release;
   colmap::SyntheticProject sp = colmap::WriteSyntheticProject(o);
   p.db = sp.database_path;
   p.depths = sp.depth_path;
@@ -139,6 +141,46 @@ TEST(TwoViewEstimator, WritesEstimatedCamerasWhereTheSchemaHasThem) {
   EXPECT_EQ(testing::DumpTable(p.db, "sqlite_master"), schema_before);
   EXPECT_EQ(colmap::Database::Open(p.db, true)->user_version(), 4020000);
 }
+
+// The whole estimator on a database of every COLMAP release (DatabaseBuilder's schemas, with the rigs and frames
+// 3.12+ have): every pair estimated, camera1 / camera2 only where the schema has them, the schema and user_version
+// untouched, and restore gives back the database as it was.
+class TwoViewEstimatorOnRelease : public ::testing::TestWithParam<colmap::ColmapRelease> {};
+
+TEST_P(TwoViewEstimatorOnRelease, EstimatesWritesAndRestores) {
+  const colmap::ColmapRelease release = GetParam();
+  const Project p = MakeProject("release_" + colmap::ColmapReleaseName(release), 3, false, release);
+  const std::string schema_before = testing::DumpTable(p.db, "sqlite_master");
+  const std::string tvg_before = testing::DumpTable(p.db, "two_view_geometries");
+  const std::string frames_before = release >= colmap::ColmapRelease::k3_12 ? testing::DumpTable(p.db, "frames") : "";
+  const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(Options(p));
+  EXPECT_EQ(s.num_estimated, 3);
+  {
+    auto db = colmap::Database::Open(p.db, true);
+    EXPECT_EQ(db->user_version(), colmap::ColmapReleaseUserVersion(release));
+    EXPECT_EQ(db->has_two_view_cameras(), release == colmap::ColmapRelease::kMain);
+    for (int k = 0; k < 3; ++k) {
+      const auto g = db->ReadTwoViewGeometry(colmap::ImagePairToPairId(2 * k + 1, 2 * k + 2));
+      ASSERT_TRUE(g.has_value());
+      EXPECT_TRUE(g->qvec.has_value() && g->E.has_value() && g->F.has_value());
+      EXPECT_EQ(g->camera1.has_value(), release == colmap::ColmapRelease::kMain);
+    }
+    if (release >= colmap::ColmapRelease::k3_12) EXPECT_EQ(testing::DumpTable(p.db, "frames"), frames_before);
+  }
+  colmap::Database::Open(p.db)->RestoreTwoViewGeometries();
+  EXPECT_EQ(testing::DumpTable(p.db, "sqlite_master"), schema_before);
+  EXPECT_EQ(testing::DumpTable(p.db, "two_view_geometries"), tvg_before);
+  EXPECT_EQ(colmap::Database::Open(p.db, true)->user_version(), colmap::ColmapReleaseUserVersion(release));
+}
+
+INSTANTIATE_TEST_SUITE_P(Releases, TwoViewEstimatorOnRelease, ::testing::ValuesIn(colmap::AllColmapReleases()),
+                         [](const ::testing::TestParamInfo<colmap::ColmapRelease>& info) {
+                           std::string name = "Colmap" + colmap::ColmapReleaseName(info.param);
+                           for (char& c : name) {
+                             if (c == '.') c = '_';
+                           }
+                           return name;
+                         });
 
 TEST(TwoViewEstimator, ResumesAndIsDeterministicAcrossThreadCounts) {
   const Project a = MakeProject("det_a", 5, true);
