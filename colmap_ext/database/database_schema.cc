@@ -104,6 +104,15 @@ std::string ColmapReleaseName(ColmapRelease release) {
   return "unknown";
 }
 
+ColmapRelease ParseColmapRelease(const std::string& name, const std::string& option) {
+  std::string names;
+  for (ColmapRelease r : AllColmapReleases()) {
+    if (ColmapReleaseName(r) == name) return r;
+    names += (names.empty() ? "" : ", ") + ColmapReleaseName(r);
+  }
+  throw std::invalid_argument("unknown " + option + " '" + name + "' (known: " + names + ")");
+}
+
 int ColmapReleaseUserVersion(ColmapRelease release) {
   switch (release) {
     case ColmapRelease::k3_8: return 3800;

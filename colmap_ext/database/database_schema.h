@@ -26,6 +26,8 @@ enum class ColmapRelease {
 std::vector<ColmapRelease> AllColmapReleases();
 // "3.8", ..., "4.1", "main".
 std::string ColmapReleaseName(ColmapRelease release);
+// Inverse of ColmapReleaseName; throws std::invalid_argument naming `option` and listing the releases.
+ColmapRelease ParseColmapRelease(const std::string& name, const std::string& option = "--colmap_version");
 // The PRAGMA user_version COLMAP's newest tag of the release writes into a database it creates (3800, 3900,
 // 4000400 for 4.0.4, 4010100 for 4.1.1, 4020000 for main).
 int ColmapReleaseUserVersion(ColmapRelease release);

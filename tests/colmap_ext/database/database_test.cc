@@ -928,6 +928,8 @@ TEST(ColmapSchemas, TablesColumnsAndIndexesPerRelease) {
   EXPECT_EQ(ColmapReleaseUserVersion(ColmapRelease::k3_8), 3800);
   EXPECT_EQ(ColmapReleaseUserVersion(ColmapRelease::k3_13), 3900);
   EXPECT_EQ(ColmapReleaseUserVersion(ColmapRelease::k4_1), 4010100);
+  for (ColmapRelease release : AllColmapReleases()) EXPECT_EQ(ParseColmapRelease(ColmapReleaseName(release)), release);
+  EXPECT_THROW(ParseColmapRelease("4.2"), std::invalid_argument);
   // The 3.8 schema is still the one of `colmap database_creator` 3.8 (checked against the binary below).
   EXPECT_EQ(Colmap38SchemaSql(), ColmapSchemaSql(ColmapRelease::k3_8));
 }

@@ -454,6 +454,28 @@ TEST(Robustness, MissingPairListNamesTheFile) {
 // ---------------------------------------------------------------------------------------------------------------
 // Command-line options
 
+// `synth_project --colmap_version` writes that release's schema; an unknown release names the option and the known
+// ones and writes nothing.
+TEST(Robustness, SynthProjectColmapVersion) {
+  const std::string dir = (fs::temp_directory_path() / "madsfm_robust_synth_version").string();
+  fs::remove_all(dir);
+  CliRun r = RunCli("synth_project --output_path " + dir + " --num_pairs 2 --colmap_version 4.0");
+  ASSERT_EQ(r.status, 0) << r.out;
+  auto db = colmap::Database::Open(dir + "/database.db", true);
+  EXPECT_EQ(db->user_version(), 4000400);
+  EXPECT_EQ(db->schema(), colmap::SchemaVersion::kColmap4);
+  EXPECT_EQ(db->ReadImages().size(), 4u);
+  db.reset();
+  fs::remove_all(dir);
+  r = RunCli("synth_project --output_path " + dir + " --num_pairs 2 --colmap_version 5.0");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(Contains(r.out, "unknown --colmap_version '5.0' (known: 3.8, 3.9, 3.10, 3.11, 3.12, 3.13, 4.0, 4.1, "
+                              "main)"))
+      << r.out;
+  EXPECT_FALSE(fs::exists(dir + "/database.db"));
+  fs::remove_all(dir);
+}
+
 TEST(Robustness, CommandLineErrorsAreClearAndExit1) {
   struct Command {
     std::string name, good_args, int_option, required;
