@@ -3,8 +3,11 @@
 #include <sqlite3.h>
 #include <sys/stat.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <set>
 #include <stdexcept>
@@ -28,7 +31,10 @@ constexpr const char* kMadsfmPairsTable = "madsfm_two_view_geometries";
 constexpr const char* kCreatedMatchesTable = "madsfm_created_matches";
 constexpr const char* kWrittenPairsTable = "madsfm_written_two_view_geometries";
 
-constexpr const char* kTwoViewColumns = "pair_id, rows, cols, data, config, F, E, H, qvec, tvec";
+// two_view_geometries columns of every schema, and with COLMAP main's camera1 / camera2.
+std::string TwoViewColumns(bool cameras) {
+  return std::string("pair_id, rows, cols, data, config, F, E, H, qvec, tvec") + (cameras ? ", camera1, camera2" : "");
+}
 constexpr const char* kCameraColumns = "camera_id, model, width, height, params, prior_focal_length";
 
 // Makes one write operation atomic: BEGIN IMMEDIATE ... COMMIT when no transaction is open, otherwise a savepoint
@@ -90,13 +96,14 @@ bool AllZero(const double* v, int n) {
 }
 
 // Reads a float64 blob of exactly n values; NULL / empty -> false; other sizes -> error.
-bool ReadDoubles(const Statement& stmt, int col, int n, double* out, const std::string& path,
-                 const std::string& what) {
+using What = std::function<std::string()>;  // error context, built only when an error is thrown
+
+bool ReadDoubles(const Statement& stmt, int col, int n, double* out, const std::string& path, const What& what) {
   size_t num_bytes = 0;
   const void* data = stmt.Blob(col, &num_bytes);
   if (num_bytes == 0) return false;
   if (num_bytes != n * sizeof(double)) {
-    throw std::runtime_error("'" + path + "': " + what + " has " + std::to_string(num_bytes) + " bytes, expected " +
+    throw std::runtime_error("'" + path + "': " + what() + " has " + std::to_string(num_bytes) + " bytes, expected " +
                              std::to_string(n * sizeof(double)) + " (" + std::to_string(n) + " float64)");
   }
   std::memcpy(out, data, num_bytes);
@@ -105,26 +112,26 @@ bool ReadDoubles(const Statement& stmt, int col, int n, double* out, const std::
 
 // rows x 2 uint32 matches blob (columns rows, cols, data at col0, col0+1, col0+2).
 std::vector<std::array<uint32_t, 2>> ReadMatchesBlob(const Statement& stmt, int col0, const std::string& path,
-                                                     const std::string& what) {
+                                                     const What& what) {
   const int64_t rows = stmt.Int64(col0);
   const int64_t cols = stmt.Int64(col0 + 1);
   size_t num_bytes = 0;
   const void* data = stmt.Blob(col0 + 2, &num_bytes);
   std::vector<std::array<uint32_t, 2>> matches;
-  if (rows < 0) throw std::runtime_error("'" + path + "': " + what + " has rows = " + std::to_string(rows));
+  if (rows < 0) throw std::runtime_error("'" + path + "': " + what() + " has rows = " + std::to_string(rows));
   if (rows == 0) {
     if (num_bytes != 0) {
-      throw std::runtime_error("'" + path + "': " + what + " has rows = 0 but a blob of " +
+      throw std::runtime_error("'" + path + "': " + what() + " has rows = 0 but a blob of " +
                                std::to_string(num_bytes) + " bytes");
     }
     return matches;
   }
   if (cols != 2) {
-    throw std::runtime_error("'" + path + "': " + what + " has cols = " + std::to_string(cols) + ", expected 2");
+    throw std::runtime_error("'" + path + "': " + what() + " has cols = " + std::to_string(cols) + ", expected 2");
   }
   const size_t expected = static_cast<size_t>(rows) * 2 * sizeof(uint32_t);
   if (num_bytes != expected) {
-    throw std::runtime_error("'" + path + "': " + what + " blob has " + std::to_string(num_bytes) +
+    throw std::runtime_error("'" + path + "': " + what() + " blob has " + std::to_string(num_bytes) +
                              " bytes, expected " + std::to_string(expected) + " (" + std::to_string(rows) +
                              " x 2 uint32)");
   }
@@ -133,20 +140,55 @@ std::vector<std::array<uint32_t, 2>> ReadMatchesBlob(const Statement& stmt, int 
   return matches;
 }
 
-std::string PairName(pair_t pair_id) {
-  image_t id1, id2;
-  PairIdToImagePair(pair_id, &id1, &id2);
-  return "pair " + std::to_string(pair_id) + " (images " + std::to_string(id1) + ", " + std::to_string(id2) + ")";
+// Little-endian writer / reader of the camera blob.
+class LittleEndianWriter {
+ public:
+  template <typename T>
+  void Put(T value) {
+    unsigned char bytes[sizeof(T)];
+    std::memcpy(bytes, &value, sizeof(T));
+    uint16_t probe = 1;
+    unsigned char first;
+    std::memcpy(&first, &probe, 1);
+    if (first == 0) std::reverse(bytes, bytes + sizeof(T));  // big-endian host
+    out_.insert(out_.end(), bytes, bytes + sizeof(T));
+  }
+  std::vector<unsigned char> Take() { return std::move(out_); }
+
+ private:
+  std::vector<unsigned char> out_;
+};
+
+template <typename T>
+T GetLittleEndian(const unsigned char* p) {
+  unsigned char bytes[sizeof(T)];
+  std::memcpy(bytes, p, sizeof(T));
+  uint16_t probe = 1;
+  unsigned char first;
+  std::memcpy(&first, &probe, 1);
+  if (first == 0) std::reverse(bytes, bytes + sizeof(T));
+  T value;
+  std::memcpy(&value, bytes, sizeof(T));
+  return value;
+}
+
+constexpr size_t kCameraBlobHeader = 4 + 4 + 8 + 8 + 1 + 8;
+
+bool AllFinite(const double* v, int n) {
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
 }
 
 void BindMatchesBlob(Statement* stmt, int i, const std::vector<std::array<uint32_t, 2>>& matches) {
   stmt->BindBlob(i, matches.data(), matches.size() * sizeof(matches[0]));
 }
 
-std::string CreateTwoViewTableSql(const std::string& name) {
+std::string CreateTwoViewTableSql(const std::string& name, bool cameras) {
   return "CREATE TABLE IF NOT EXISTS " + name +
          " (pair_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL, data BLOB, "
-         "config INTEGER NOT NULL, F BLOB, E BLOB, H BLOB, qvec BLOB, tvec BLOB)";
+         "config INTEGER NOT NULL, F BLOB, E BLOB, H BLOB, qvec BLOB, tvec BLOB" +
+         std::string(cameras ? ", camera1 BLOB, camera2 BLOB" : "") + ")";
 }
 
 }  // namespace
@@ -159,6 +201,56 @@ pair_t ImagePairToPairId(image_t id1, image_t id2) {
 void PairIdToImagePair(pair_t pair_id, image_t* id1, image_t* id2) {
   *id2 = static_cast<image_t>(pair_id % kMaxNumImages);
   *id1 = static_cast<image_t>((pair_id - *id2) / kMaxNumImages);
+}
+
+bool ConfigHasPose(int config) {
+  // COLMAP's ConfigurationType: CALIBRATED 2, UNCALIBRATED 3, PLANAR 4, PANORAMIC 5, PLANAR_OR_PANORAMIC 6,
+  // CALIBRATED_RIG 9 carry a pose; UNDEFINED 0, DEGENERATE 1, WATERMARK 7, MULTIPLE 8 do not.
+  return (config >= 2 && config <= 6) || config == 9;
+}
+
+std::vector<unsigned char> EncodeCameraBlob(const Camera& camera) {
+  LittleEndianWriter w;
+  w.Put<uint32_t>(camera.camera_id);
+  w.Put<int32_t>(camera.intrinsics.model_id);
+  w.Put<uint64_t>(static_cast<uint64_t>(camera.intrinsics.width));
+  w.Put<uint64_t>(static_cast<uint64_t>(camera.intrinsics.height));
+  w.Put<uint8_t>(camera.prior_focal_length ? 1 : 0);
+  w.Put<uint64_t>(camera.intrinsics.params.size());
+  for (double p : camera.intrinsics.params) w.Put<double>(p);
+  return w.Take();
+}
+
+Camera DecodeCameraBlob(const void* data, size_t num_bytes, const std::string& what) {
+  const unsigned char* p = static_cast<const unsigned char*>(data);
+  if (num_bytes < kCameraBlobHeader) {
+    throw std::runtime_error(what + " has " + std::to_string(num_bytes) + " bytes, less than the " +
+                             std::to_string(kCameraBlobHeader) + " of a camera without params");
+  }
+  Camera camera;
+  camera.camera_id = GetLittleEndian<uint32_t>(p);
+  camera.intrinsics.model_id = GetLittleEndian<int32_t>(p + 4);
+  const uint64_t width = GetLittleEndian<uint64_t>(p + 8), height = GetLittleEndian<uint64_t>(p + 16);
+  camera.prior_focal_length = p[24] != 0;
+  const uint64_t num_params = GetLittleEndian<uint64_t>(p + 25);
+  if (num_params > (num_bytes - kCameraBlobHeader) / sizeof(double) ||
+      num_bytes != kCameraBlobHeader + num_params * sizeof(double)) {
+    throw std::runtime_error(what + " has " + std::to_string(num_bytes) + " bytes, but says " +
+                             std::to_string(num_params) + " params (expected " + std::to_string(kCameraBlobHeader) +
+                             " + 8 per param)");
+  }
+  if (width > static_cast<uint64_t>(std::numeric_limits<int>::max()) ||
+      height > static_cast<uint64_t>(std::numeric_limits<int>::max())) {
+    throw std::runtime_error(what + " has an implausible size " + std::to_string(width) + " x " +
+                             std::to_string(height));
+  }
+  camera.intrinsics.width = static_cast<int>(width);
+  camera.intrinsics.height = static_cast<int>(height);
+  camera.intrinsics.params.resize(num_params);
+  for (uint64_t i = 0; i < num_params; ++i) {
+    camera.intrinsics.params[i] = GetLittleEndian<double>(p + kCameraBlobHeader + i * sizeof(double));
+  }
+  return camera;
 }
 
 std::string SchemaVersionName(SchemaVersion v) {
@@ -256,7 +348,47 @@ std::unique_ptr<Database> Database::Open(const std::string& path, bool read_only
     // No prior columns anywhere (e.g. a hand-made database): the columns madsfm uses are the same as 3.10's.
     database->schema_ = SchemaVersion::kColmap310;
   }
+  const std::set<std::string> two_view_columns = TableColumns(db, path, "two_view_geometries");
+  database->two_view_cameras_ = two_view_columns.count("camera1") != 0 && two_view_columns.count("camera2") != 0;
+  {
+    Statement stmt(db, path, "PRAGMA user_version");
+    if (stmt.Step()) database->user_version_ = static_cast<int>(stmt.Int64(0));
+  }
   return database;
+}
+
+std::string Database::DescribeImage(image_t image_id) const {
+  Statement stmt(db_, path_, "SELECT name FROM images WHERE image_id = ?");
+  stmt.BindInt64(1, image_id);
+  if (!stmt.Step()) return "image_id " + std::to_string(image_id) + " (not in the images table)";
+  return "'" + stmt.Text(0) + "' (image_id " + std::to_string(image_id) + ")";
+}
+
+std::string Database::DescribeCamera(camera_t camera_id) const {
+  const std::string id = "camera_id " + std::to_string(camera_id);
+  {
+    Statement stmt(db_, path_, "SELECT 1 FROM cameras WHERE camera_id = ?");
+    stmt.BindInt64(1, camera_id);
+    if (!stmt.Step()) return id + " (not in the cameras table)";
+  }
+  constexpr int kMaxNames = 3;
+  Statement stmt(db_, path_, "SELECT name FROM images WHERE camera_id = ? ORDER BY image_id");
+  stmt.BindInt64(1, camera_id);
+  std::string names;
+  int count = 0;
+  while (stmt.Step()) {
+    if (count < kMaxNames) names += (count > 0 ? ", '" : "'") + stmt.Text(0) + "'";
+    ++count;
+  }
+  if (count == 0) return id + " (used by no image)";
+  if (count > kMaxNames) names += " and " + std::to_string(count - kMaxNames) + " more";
+  return id + " (used by " + names + ")";
+}
+
+std::string Database::DescribePair(pair_t pair_id) const {
+  image_t id1, id2;
+  PairIdToImagePair(pair_id, &id1, &id2);
+  return "pair " + std::to_string(pair_id) + " (" + DescribeImage(id1) + ", " + DescribeImage(id2) + ")";
 }
 
 Database::~Database() {
@@ -274,14 +406,14 @@ std::vector<Camera> Database::ReadCameras() const {
     camera.intrinsics.height = static_cast<int>(stmt.Int64(3));
     size_t num_bytes = 0;
     const void* data = stmt.Blob(4, &num_bytes);
-    const std::string what = "camera_id " + std::to_string(camera.camera_id);
     if (num_bytes % sizeof(double) != 0) {
-      throw std::runtime_error("'" + path_ + "': params of " + what + " have " + std::to_string(num_bytes) +
+      throw std::runtime_error("'" + path_ + "': params of " + DescribeCamera(camera.camera_id) + " have " +
+                               std::to_string(num_bytes) +
                                " bytes, not a whole number of float64");
     }
     const int num_params = CameraModelNumParams(camera.intrinsics.model_id);
     if (num_params >= 0 && num_bytes != num_params * sizeof(double)) {
-      throw std::runtime_error("'" + path_ + "': params of " + what + " have " +
+      throw std::runtime_error("'" + path_ + "': params of " + DescribeCamera(camera.camera_id) + " have " +
                                std::to_string(num_bytes / sizeof(double)) + " values, camera model " +
                                CameraModelName(camera.intrinsics.model_id) + " needs " + std::to_string(num_params));
     }
@@ -311,20 +443,20 @@ std::vector<Eigen::Vector2d> Database::ReadKeypoints(image_t image_id) const {
   Statement stmt(db_, path_, "SELECT rows, cols, data FROM keypoints WHERE image_id = ?");
   stmt.BindInt64(1, image_id);
   if (!stmt.Step()) return keypoints;  // no keypoints row: no keypoints
-  const std::string what = "keypoints of image_id " + std::to_string(image_id);
+  const auto what = [&] { return "keypoints of " + DescribeImage(image_id); };
   const int64_t rows = stmt.Int64(0);
   const int64_t cols = stmt.Int64(1);
   size_t num_bytes = 0;
   const void* data = stmt.Blob(2, &num_bytes);
-  if (rows < 0) throw std::runtime_error("'" + path_ + "': " + what + ": rows = " + std::to_string(rows));
+  if (rows < 0) throw std::runtime_error("'" + path_ + "': " + what() + ": rows = " + std::to_string(rows));
   if (rows == 0) return keypoints;
   if (cols != 2 && cols != 4 && cols != 6) {
-    throw std::runtime_error("'" + path_ + "': " + what + ": cols = " + std::to_string(cols) +
+    throw std::runtime_error("'" + path_ + "': " + what() + ": cols = " + std::to_string(cols) +
                              ", expected 2, 4 or 6");
   }
   const size_t expected = static_cast<size_t>(rows) * static_cast<size_t>(cols) * sizeof(float);
   if (num_bytes != expected) {
-    throw std::runtime_error("'" + path_ + "': " + what + ": blob has " + std::to_string(num_bytes) +
+    throw std::runtime_error("'" + path_ + "': " + what() + ": blob has " + std::to_string(num_bytes) +
                              " bytes, expected " + std::to_string(expected) + " (" + std::to_string(rows) + " x " +
                              std::to_string(cols) + " float32)");
   }
@@ -349,14 +481,15 @@ std::vector<std::array<uint32_t, 2>> Database::ReadMatches(pair_t pair_id) const
   Statement stmt(db_, path_, "SELECT rows, cols, data FROM matches WHERE pair_id = ?");
   stmt.BindInt64(1, static_cast<int64_t>(pair_id));
   if (!stmt.Step()) return {};
-  return ReadMatchesBlob(stmt, 0, path_, "matches of " + PairName(pair_id));
+  return ReadMatchesBlob(stmt, 0, path_, [&] { return "matches of " + DescribePair(pair_id); });
 }
 
 std::optional<TwoViewGeometryRow> Database::ReadTwoViewGeometry(pair_t pair_id) const {
-  Statement stmt(db_, path_, std::string("SELECT ") + kTwoViewColumns + " FROM two_view_geometries WHERE pair_id = ?");
+  Statement stmt(db_, path_,
+                 "SELECT " + TwoViewColumns(two_view_cameras_) + " FROM two_view_geometries WHERE pair_id = ?");
   stmt.BindInt64(1, static_cast<int64_t>(pair_id));
   if (!stmt.Step()) return std::nullopt;
-  const std::string what = "two_view_geometries row of " + PairName(pair_id);
+  const What what = [&] { return "two_view_geometries row of " + DescribePair(pair_id); };
   TwoViewGeometryRow row;
   row.pair_id = pair_id;
   row.inlier_matches = ReadMatchesBlob(stmt, 1, path_, what);
@@ -365,7 +498,7 @@ std::optional<TwoViewGeometryRow> Database::ReadTwoViewGeometry(pair_t pair_id) 
   std::optional<Eigen::Matrix3d>* targets[3] = {&row.F, &row.E, &row.H};
   for (int k = 0; k < 3; ++k) {
     double v[9];
-    if (ReadDoubles(stmt, 5 + k, 9, v, path_, what + " column " + names[k]) && !AllZero(v, 9)) {
+    if (ReadDoubles(stmt, 5 + k, 9, v, path_, [&] { return what() + " column " + names[k]; }) && !AllZero(v, 9)) {
       Eigen::Matrix3d m;
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) m(r, c) = v[3 * r + c];
@@ -373,13 +506,23 @@ std::optional<TwoViewGeometryRow> Database::ReadTwoViewGeometry(pair_t pair_id) 
     }
   }
   double q[4], t[3];
-  const bool has_q = ReadDoubles(stmt, 8, 4, q, path_, what + " column qvec");
-  const bool has_t = ReadDoubles(stmt, 9, 3, t, path_, what + " column tvec");
+  const bool has_q = ReadDoubles(stmt, 8, 4, q, path_, [&] { return what() + " column qvec"; });
+  const bool has_t = ReadDoubles(stmt, 9, 3, t, path_, [&] { return what() + " column tvec"; });
   // COLMAP < 4 writes an identity / all-zero pose when none was estimated; like 4.x's migration, read it as absent.
   const bool identity = has_q && q[0] == 1 && q[1] == 0 && q[2] == 0 && q[3] == 0 && has_t && AllZero(t, 3);
   if (has_q && has_t && !AllZero(q, 4) && !identity) {
     row.qvec = Eigen::Vector4d(q[0], q[1], q[2], q[3]);
     row.tvec = Eigen::Vector3d(t[0], t[1], t[2]);
+  }
+  if (two_view_cameras_) {
+    std::optional<Camera>* cameras[2] = {&row.camera1, &row.camera2};
+    for (int k = 0; k < 2; ++k) {
+      size_t num_bytes = 0;
+      const void* data = stmt.Blob(10 + k, &num_bytes);
+      if (stmt.IsNull(10 + k)) continue;
+      *cameras[k] = DecodeCameraBlob(data, num_bytes,
+                                     "'" + path_ + "': " + what() + " column camera" + std::to_string(k + 1));
+    }
   }
   return row;
 }
@@ -399,9 +542,11 @@ void Database::Transaction::Commit() {
 void Database::BackupTwoViewGeometries() {
   if (HasBackup()) return;
   ScopedTransaction transaction(db_, path_);
-  Exec(db_, path_, CreateTwoViewTableSql(kBackupTwoViewTable));
+  // The backup keeps every column COLMAP's table has (camera1 / camera2 too, on COLMAP main).
+  Exec(db_, path_, CreateTwoViewTableSql(kBackupTwoViewTable, two_view_cameras_));
+  const std::string columns = TwoViewColumns(two_view_cameras_);
   Exec(db_, path_,
-       std::string("INSERT INTO ") + kBackupTwoViewTable + " (" + kTwoViewColumns + ") SELECT " + kTwoViewColumns +
+       std::string("INSERT INTO ") + kBackupTwoViewTable + " (" + columns + ") SELECT " + columns +
            " FROM two_view_geometries");
   transaction.Commit();
 }
@@ -427,10 +572,18 @@ int Database::RestoreTwoViewGeometries() {
   }
   // Without a backup madsfm never wrote a two_view_geometries row (the backup precedes the first write).
   if (has_backup && !touched.empty()) {
+    // A backup made before COLMAP added camera1 / camera2 (ALTER TABLE) holds rows whose cameras were NULL: restoring
+    // the other columns leaves them NULL.
+    const bool backup_cameras = TableColumns(db_, path_, kBackupTwoViewTable).count("camera1") != 0;
+    if (backup_cameras && !two_view_cameras_) {
+      throw std::runtime_error("'" + path_ + "': the backup table " + kBackupTwoViewTable +
+                               " has camera1 / camera2 columns but two_view_geometries has not; nothing restored");
+    }
+    const std::string columns = TwoViewColumns(backup_cameras);
     Exec(db_, path_, "DELETE FROM two_view_geometries WHERE pair_id IN (" + touched + ")");
     Exec(db_, path_,
-         std::string("INSERT INTO two_view_geometries (") + kTwoViewColumns + ") SELECT " + kTwoViewColumns +
-             " FROM " + kBackupTwoViewTable + " WHERE pair_id IN (" + touched + ")");
+         "INSERT INTO two_view_geometries (" + columns + ") SELECT " + columns + " FROM " + kBackupTwoViewTable +
+             " WHERE pair_id IN (" + touched + ")");
     restored = sqlite3_changes(db_);
   }
   if (TableExists(db_, path_, kCreatedMatchesTable)) {
@@ -457,16 +610,67 @@ int Database::RestoreTwoViewGeometries() {
   return restored;
 }
 
-void Database::WriteTwoViewGeometry(const TwoViewGeometryRow& row) {
-  if (row.qvec.has_value() != row.tvec.has_value()) {
-    throw std::invalid_argument("'" + path_ + "': " + PairName(row.pair_id) +
-                                ": qvec and tvec must both be set or both be absent");
-  }
+void Database::CheckWritable(const TwoViewGeometryRow& row) const {
   image_t id1, id2;
   PairIdToImagePair(row.pair_id, &id1, &id2);
   if (id1 >= id2 || ImagePairToPairId(id1, id2) != row.pair_id) {
     throw std::invalid_argument("'" + path_ + "': invalid pair_id " + std::to_string(row.pair_id));
   }
+  const auto fail = [&](const std::string& why) {
+    throw std::invalid_argument("'" + path_ + "': two-view geometry of " + DescribePair(row.pair_id) + ": " + why);
+  };
+  if (row.qvec.has_value() != row.tvec.has_value()) fail("qvec and tvec must both be set or both be absent");
+  const char* names[3] = {"F", "E", "H"};
+  const std::optional<Eigen::Matrix3d>* matrices[3] = {&row.F, &row.E, &row.H};
+  for (int k = 0; k < 3; ++k) {
+    if (!matrices[k]->has_value()) continue;
+    const Eigen::Matrix3d& m = **matrices[k];
+    if (!AllFinite(m.data(), 9)) fail(std::string(names[k]) + " is not finite");
+    if (AllZero(m.data(), 9)) fail(std::string(names[k]) + " is all zero (COLMAP reads that as not estimated)");
+  }
+  if (row.qvec.has_value()) {
+    // COLMAP < 4 wrote identity / zero poses as "not estimated", and 4.x nulls them when it opens such a database:
+    // a pose madsfm writes must be a real one.
+    if (!AllFinite(row.qvec->data(), 4) || !AllFinite(row.tvec->data(), 3)) fail("the pose is not finite");
+    if (std::abs(row.qvec->norm() - 1.0) > 1e-6) fail("qvec is not a unit quaternion");
+    if (row.tvec->norm() == 0.0) fail("tvec is zero");
+    if (!ConfigHasPose(row.config)) fail("config " + std::to_string(row.config) + " has no pose, but one is given");
+  }
+  if ((row.camera1.has_value() || row.camera2.has_value()) && !row.E.has_value()) {
+    // COLMAP main decomposes E (not F) of pairs whose intrinsics were estimated.
+    fail("camera1 / camera2 need E");
+  }
+  const std::optional<Camera>* cameras[2] = {&row.camera1, &row.camera2};
+  const image_t ids[2] = {id1, id2};
+  for (int k = 0; k < 2; ++k) {
+    if (!cameras[k]->has_value()) continue;
+    const Camera& c = **cameras[k];
+    Statement stmt(db_, path_,
+                   "SELECT images.camera_id, model, width, height, length(params) FROM images JOIN cameras ON "
+                   "images.camera_id = cameras.camera_id WHERE image_id = ?");
+    stmt.BindInt64(1, ids[k]);
+    const std::string which = "camera" + std::to_string(k + 1) + " of " + DescribeImage(ids[k]);
+    if (!stmt.Step()) fail(which + ": the image or its camera is not in the database");
+    const int num_params = CameraModelNumParams(c.intrinsics.model_id);
+    if (static_cast<camera_t>(stmt.Int64(0)) != c.camera_id || stmt.Int64(1) != c.intrinsics.model_id ||
+        stmt.Int64(2) != c.intrinsics.width || stmt.Int64(3) != c.intrinsics.height ||
+        stmt.Int64(4) != static_cast<int64_t>(c.intrinsics.params.size() * sizeof(double)) ||
+        (num_params >= 0 && static_cast<int>(c.intrinsics.params.size()) != num_params)) {
+      fail(which + " is camera_id " + std::to_string(c.camera_id) + " " + CameraModelName(c.intrinsics.model_id) +
+           " " + std::to_string(c.intrinsics.width) + "x" + std::to_string(c.intrinsics.height) + " with " +
+           std::to_string(c.intrinsics.params.size()) + " params, not the image's " +
+           DescribeCamera(static_cast<camera_t>(stmt.Int64(0))) + " (" +
+           CameraModelName(static_cast<int>(stmt.Int64(1))) + " " + std::to_string(stmt.Int64(2)) + "x" +
+           std::to_string(stmt.Int64(3)) + ")");
+    }
+    if (!AllFinite(c.intrinsics.params.data(), static_cast<int>(c.intrinsics.params.size()))) {
+      fail(which + " has non-finite params");
+    }
+  }
+}
+
+void Database::WriteTwoViewGeometry(const TwoViewGeometryRow& row) {
+  CheckWritable(row);
   ScopedTransaction transaction(db_, path_);
   BackupTwoViewGeometries();  // no-op once the backup exists
   Exec(db_, path_,
@@ -476,8 +680,9 @@ void Database::WriteTwoViewGeometry(const TwoViewGeometryRow& row) {
            " (pair_id INTEGER PRIMARY KEY NOT NULL)");
   {
     Statement stmt(db_, path_,
-                   std::string("INSERT OR REPLACE INTO two_view_geometries (") + kTwoViewColumns +
-                       ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                   "INSERT OR REPLACE INTO two_view_geometries (" + TwoViewColumns(two_view_cameras_) +
+                       ") VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?" + std::string(two_view_cameras_ ? ", ?, ?" : "") +
+                       ")");
     stmt.BindInt64(1, static_cast<int64_t>(row.pair_id));
     stmt.BindInt64(2, static_cast<int64_t>(row.inlier_matches.size()));
     stmt.BindInt64(3, 2);
@@ -500,6 +705,18 @@ void Database::WriteTwoViewGeometry(const TwoViewGeometryRow& row) {
     } else {
       stmt.BindNull(9);
       stmt.BindNull(10);
+    }
+    std::vector<unsigned char> camera_blobs[2];  // bound by copy, but kept until Run for clarity
+    if (two_view_cameras_) {
+      const std::optional<Camera>* cameras[2] = {&row.camera1, &row.camera2};
+      for (int k = 0; k < 2; ++k) {
+        if (cameras[k]->has_value()) {
+          camera_blobs[k] = EncodeCameraBlob(**cameras[k]);
+          stmt.BindBlob(11 + k, camera_blobs[k].data(), camera_blobs[k].size());
+        } else {
+          stmt.BindNull(11 + k);
+        }
+      }
     }
     stmt.Run();
   }
@@ -578,13 +795,15 @@ constexpr const char* kMadsfmPairColumns =
     "pair_id, R, t, scale, shift1, shift2, focal1, focal2, camera_mode, method, num_inliers_reproj1, "
     "num_inliers_reproj2, num_inliers_sampson, num_inliers, score, options_fingerprint, status";
 
-MadsfmPairRow ReadMadsfmPairRow(const Statement& stmt, const std::string& path) {
+MadsfmPairRow ReadMadsfmPairRow(const Statement& stmt, const Database& db) {
+  const std::string& path = db.path();
   MadsfmPairRow row;
   row.pair_id = static_cast<pair_t>(stmt.Int64(0));
-  const std::string what = std::string(kMadsfmPairsTable) + " row of " + PairName(row.pair_id);
+  const What what = [&] { return std::string(kMadsfmPairsTable) + " row of " + db.DescribePair(row.pair_id); };
   double R[9], t[3];
-  if (!ReadDoubles(stmt, 1, 9, R, path, what + " column R") || !ReadDoubles(stmt, 2, 3, t, path, what + " column t")) {
-    throw std::runtime_error("'" + path + "': " + what + " has no R or t");
+  if (!ReadDoubles(stmt, 1, 9, R, path, [&] { return what() + " column R"; }) ||
+      !ReadDoubles(stmt, 2, 3, t, path, [&] { return what() + " column t"; })) {
+    throw std::runtime_error("'" + path + "': " + what() + " has no R or t");
   }
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) row.R(r, c) = R[3 * r + c];
@@ -614,7 +833,7 @@ std::optional<MadsfmPairRow> Database::ReadMadsfmPair(pair_t pair_id) const {
                  std::string("SELECT ") + kMadsfmPairColumns + " FROM " + kMadsfmPairsTable + " WHERE pair_id = ?");
   stmt.BindInt64(1, static_cast<int64_t>(pair_id));
   if (!stmt.Step()) return std::nullopt;
-  return ReadMadsfmPairRow(stmt, path_);
+  return ReadMadsfmPairRow(stmt, *this);
 }
 
 std::vector<MadsfmPairRow> Database::ReadMadsfmPairs() const {
@@ -622,18 +841,18 @@ std::vector<MadsfmPairRow> Database::ReadMadsfmPairs() const {
   if (!TableExists(db_, path_, kMadsfmPairsTable)) return rows;
   Statement stmt(db_, path_,
                  std::string("SELECT ") + kMadsfmPairColumns + " FROM " + kMadsfmPairsTable + " ORDER BY pair_id");
-  while (stmt.Step()) rows.push_back(ReadMadsfmPairRow(stmt, path_));
+  while (stmt.Step()) rows.push_back(ReadMadsfmPairRow(stmt, *this));
   return rows;
 }
 
 void Database::UpdateCamera(const Camera& camera) {
   ScopedTransaction transaction(db_, path_);
-  const std::string what = "camera_id " + std::to_string(camera.camera_id);
+  const std::string what = DescribeCamera(camera.camera_id);
   int stored_model;
   {
     Statement stmt(db_, path_, "SELECT model FROM cameras WHERE camera_id = ?");
     stmt.BindInt64(1, camera.camera_id);
-    if (!stmt.Step()) throw std::runtime_error("'" + path_ + "': UpdateCamera: no " + what + " in the database");
+    if (!stmt.Step()) throw std::runtime_error("'" + path_ + "': UpdateCamera: " + what);
     stored_model = static_cast<int>(stmt.Int64(0));
   }
   const int num_params = CameraModelNumParams(stored_model);

@@ -54,9 +54,23 @@ struct TwoViewGeometryRow {
   std::vector<std::array<uint32_t, 2>> inlier_matches;  // column 0 indexes the smaller image id
   int config = kUndefined;
   std::optional<Eigen::Matrix3d> F, E, H;               // written as row-major float64 (NULL when absent)
-  std::optional<Eigen::Vector4d> qvec;                  // (w, x, y, z) of cam2_from_cam1
-  std::optional<Eigen::Vector3d> tvec;
+  std::optional<Eigen::Vector4d> qvec;                  // (w, x, y, z) of cam2_from_cam1 (x2 = R x1 + t)
+  std::optional<Eigen::Vector3d> tvec;                  // its translation (madsfm writes it with unit length)
+  // Intrinsics the two-view solver estimated for image 1 (smaller id) / image 2: the image's camera (same id, model,
+  // size) with the estimated focal. Stored in the camera1 / camera2 columns where the schema has them (COLMAP main
+  // after 4.1.1, docs/formats.md); elsewhere not stored (and read back as absent).
+  std::optional<Camera> camera1, camera2;
 };
+
+// True for the configs COLMAP gives a usable relative pose: CALIBRATED, UNCALIBRATED, PLANAR, PANORAMIC,
+// PLANAR_OR_PANORAMIC, CALIBRATED_RIG (not UNDEFINED, DEGENERATE, WATERMARK, MULTIPLE).
+bool ConfigHasPose(int config);
+
+// COLMAP's binary encoding of a Camera in two_view_geometries.camera1 / camera2 (little-endian: u32 camera_id,
+// i32 model id, u64 width, u64 height, u8 prior_focal_length, u64 number of params, f64 params).
+std::vector<unsigned char> EncodeCameraBlob(const Camera& camera);
+// Inverse of EncodeCameraBlob; throws std::runtime_error mentioning `what` when the size does not match.
+Camera DecodeCameraBlob(const void* data, size_t num_bytes, const std::string& what);
 
 // madsfm's own per-pair result, table madsfm_two_view_geometries.
 struct MadsfmPairRow {
@@ -86,6 +100,17 @@ class Database {
 
   const std::string& path() const { return path_; }
   SchemaVersion schema() const { return schema_; }
+  // Whether two_view_geometries has COLMAP main's camera1 / camera2 columns.
+  bool has_two_view_cameras() const { return two_view_cameras_; }
+  // PRAGMA user_version as found (madsfm never changes it).
+  int user_version() const { return user_version_; }
+
+  // How errors name images and cameras, in the user's terms: "'img_0003.png' (image_id 4)",
+  // "camera_id 2 (of 'a.jpg', 'b.jpg')", "pair 8589934595 ('a.jpg' (image_id 2), 'b.jpg' (image_id 3))".
+  // Ids missing from the images / cameras table are said to be missing. Meant for error paths (they query).
+  std::string DescribeImage(image_t image_id) const;
+  std::string DescribeCamera(camera_t camera_id) const;
+  std::string DescribePair(pair_t pair_id) const;
 
   // All cameras, by id. params must be float64 x CameraModelNumParams(model) (error naming the camera_id otherwise);
   // cameras of unknown model ids are returned as stored (callers decide).
@@ -101,7 +126,8 @@ class Database {
   std::vector<std::array<uint32_t, 2>> ReadMatches(pair_t pair_id) const;
   // The two_view_geometries row of a pair (nullopt without one). NULL or empty blobs are absent, and so are the
   // placeholders COLMAP < 4 writes when nothing was estimated (all-zero F/E/H, zero or identity-with-zero-t pose), as
-  // 4.x's migration does. Wrong blob sizes throw naming the pair.
+  // 4.x's migration does. camera1 / camera2 are read where the schema has them. Wrong blob sizes throw naming the
+  // pair.
   std::optional<TwoViewGeometryRow> ReadTwoViewGeometry(pair_t pair_id) const;
 
   // RAII transaction: BEGIN IMMEDIATE on construction, COMMIT on Commit(), ROLLBACK if destroyed uncommitted (the
@@ -129,8 +155,14 @@ class Database {
   // INSERT OR REPLACE of the two_view_geometries row (NULL rules of 4.x respected: absent F/E/H/pose are NULL;
   // F/E/H 72-byte row-major float64, qvec 4 and tvec 3 float64, data uint32 N x 2, cols = 2), and a matches row is
   // created from the inlier matches if the pair has none (COLMAP re-matches pairs with only one of the two rows);
-  // such rows are tracked for RestoreTwoViewGeometries. Backs up COLMAP's rows first (once). Throws
-  // std::invalid_argument when exactly one of qvec / tvec is set or pair_id is not ImagePairToPairId's.
+  // such rows are tracked for RestoreTwoViewGeometries. Backs up COLMAP's rows first (once). camera1 / camera2 are
+  // written where the schema has those columns (NULL when absent) and dropped where it has not; the schema and
+  // PRAGMA user_version are never changed.
+  // Never writes what COLMAP would take for a placeholder or could not use: throws std::invalid_argument naming the
+  // pair when pair_id is not ImagePairToPairId's, exactly one of qvec / tvec is set, the pose is not finite, qvec is
+  // not a unit quaternion or tvec is zero, a pose comes with a config without one (ConfigHasPose), F / E / H is all
+  // zero or not finite, camera1 / camera2 come without E, or a camera does not match its image's camera (id, model,
+  // size, number of params; error naming the image).
   void WriteTwoViewGeometry(const TwoViewGeometryRow& row);
 
   // Table madsfm_two_view_geometries: one row per pair, R (row-major) and t as float64 blobs, every other field of
@@ -152,9 +184,12 @@ class Database {
 
  private:
   Database() = default;
+  void CheckWritable(const TwoViewGeometryRow& row) const;  // the checks of WriteTwoViewGeometry
   std::string path_;
   sqlite3* db_ = nullptr;
   SchemaVersion schema_ = SchemaVersion::kColmap38;
+  bool two_view_cameras_ = false;
+  int user_version_ = 0;
 };
 
 }  // namespace madsfm::colmap

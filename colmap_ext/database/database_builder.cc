@@ -8,9 +8,18 @@
 #include "colmap_ext/database/database_schema.h"
 
 namespace madsfm::colmap {
+namespace {
 
-DatabaseBuilder::DatabaseBuilder(const std::string& path) : path_(path) {
-  CreateColmap38Database(path);
+constexpr int kSensorTypeCamera = 0;  // COLMAP's SensorType::CAMERA (INVALID = -1, CAMERA = 0, IMU = 1)
+
+}  // namespace
+
+bool DatabaseBuilder::HasRigs() const {
+  return static_cast<int>(release_) >= static_cast<int>(ColmapRelease::k3_12);
+}
+
+DatabaseBuilder::DatabaseBuilder(const std::string& path, ColmapRelease release) : path_(path), release_(release) {
+  CreateColmapDatabase(path, release);
   if (sqlite3_open_v2(path.c_str(), &db_, SQLITE_OPEN_READWRITE, nullptr) != SQLITE_OK) {
     const std::string msg = sqlite3_errmsg(db_);
     sqlite3_close(db_);
@@ -57,7 +66,12 @@ uint32_t DatabaseBuilder::AddCamera(int model_id, int width, int height, const s
   sqlite3_bind_blob(st, 4, params.data(), static_cast<int>(params.size() * sizeof(double)), SQLITE_TRANSIENT);
   sqlite3_bind_int(st, 5, prior_focal ? 1 : 0);
   Step(st, "insert camera");
-  return static_cast<uint32_t>(sqlite3_last_insert_rowid(db_));
+  const uint32_t camera_id = static_cast<uint32_t>(sqlite3_last_insert_rowid(db_));
+  if (HasRigs()) {
+    Exec("INSERT INTO rigs(rig_id, ref_sensor_id, ref_sensor_type) VALUES(" + std::to_string(camera_id) + ", " +
+         std::to_string(camera_id) + ", " + std::to_string(kSensorTypeCamera) + ")");
+  }
+  return camera_id;
 }
 
 uint32_t DatabaseBuilder::AddImage(const std::string& name, uint32_t camera_id) {
@@ -65,7 +79,15 @@ uint32_t DatabaseBuilder::AddImage(const std::string& name, uint32_t camera_id) 
   sqlite3_bind_text(st, 1, name.c_str(), -1, SQLITE_TRANSIENT);
   sqlite3_bind_int64(st, 2, camera_id);
   Step(st, "insert image '" + name + "'");
-  return static_cast<uint32_t>(sqlite3_last_insert_rowid(db_));
+  const uint32_t image_id = static_cast<uint32_t>(sqlite3_last_insert_rowid(db_));
+  names_[image_id] = name;
+  if (HasRigs()) {
+    const std::string id = std::to_string(image_id), camera = std::to_string(camera_id);
+    Exec("INSERT INTO frames(frame_id, rig_id) VALUES(" + id + ", " + camera + "); "
+         "INSERT INTO frame_data(frame_id, data_id, sensor_id, sensor_type) VALUES(" + id + ", " + id + ", " + camera +
+         ", " + std::to_string(kSensorTypeCamera) + ")");
+  }
+  return image_id;
 }
 
 void DatabaseBuilder::AddKeypoints(uint32_t image_id, const std::vector<Eigen::Vector2d>& keypoints) {
@@ -78,7 +100,10 @@ void DatabaseBuilder::AddKeypoints(uint32_t image_id, const std::vector<Eigen::V
   sqlite3_bind_int64(st, 1, image_id);
   sqlite3_bind_int(st, 2, static_cast<int>(keypoints.size()));
   sqlite3_bind_blob(st, 3, data.data(), static_cast<int>(data.size() * sizeof(float)), SQLITE_TRANSIENT);
-  Step(st, "insert keypoints of image " + std::to_string(image_id));
+  const auto name = names_.find(image_id);
+  Step(st, "insert keypoints of " +
+               (name == names_.end() ? std::string() : "'" + name->second + "' ") + "(image_id " +
+               std::to_string(image_id) + ")");
 }
 
 void DatabaseBuilder::AddMatches(uint32_t a, uint32_t b, const std::vector<std::array<uint32_t, 2>>& matches) {
@@ -92,7 +117,11 @@ void DatabaseBuilder::AddMatches(uint32_t a, uint32_t b, const std::vector<std::
   sqlite3_bind_int64(st, 1, static_cast<sqlite3_int64>(ImagePairToPairId(a, b)));
   sqlite3_bind_int(st, 2, static_cast<int>(matches.size()));
   sqlite3_bind_blob(st, 3, data.data(), static_cast<int>(data.size() * sizeof(uint32_t)), SQLITE_TRANSIENT);
-  Step(st, "insert matches of images " + std::to_string(a) + ", " + std::to_string(b));
+  const auto label = [&](uint32_t id) {
+    const auto name = names_.find(id);
+    return (name == names_.end() ? std::string() : "'" + name->second + "' ") + "(image_id " + std::to_string(id) + ")";
+  };
+  Step(st, "insert matches of " + label(a) + ", " + label(b));
 }
 
 }  // namespace madsfm::colmap

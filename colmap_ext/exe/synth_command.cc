@@ -5,6 +5,7 @@
 #include <fstream>
 #include <string>
 
+#include "colmap_ext/database/database_schema.h"
 #include "colmap_ext/exe/option_parser.h"
 #include "colmap_ext/synthetic/synthetic_project.h"
 #include "madsfm/io/pair_directory.h"
@@ -56,10 +57,13 @@ int RunSynth(int argc, char** argv) {
 int RunSynthProject(int argc, char** argv) {
   colmap::SyntheticProjectOptions o;
   int seed = 0;
+  std::string colmap_version = "3.8";
+  std::string versions;
+  for (colmap::ColmapRelease r : colmap::AllColmapReleases()) versions += " " + colmap::ColmapReleaseName(r);
   std::string presets_help = "Scene / camera / prior preset:";
   for (const std::string& n : SyntheticPairPresetNames()) presets_help += " " + n;
   OptionParser parser("synth_project",
-                      "Writes a synthetic COLMAP project: <output_path>/database.db (COLMAP 3.8 schema) holding\n"
+                      "Writes a synthetic COLMAP project: <output_path>/database.db (COLMAP 3.8 schema by default) holding\n"
                       "num_pairs independent image pairs (images pair<k>_a.png, pair<k>_b.png; keypoints, raw matches\n"
                       "with outliers, no two-view geometries yet) and <output_path>/depths/<image>.npy depth priors.\n"
                       "For trying two_view_estimator, sharding and merging at scale without images.");
@@ -71,10 +75,13 @@ int RunSynthProject(int argc, char** argv) {
   parser.AddDefault("outlier_ratio", &o.outlier_ratio, "Fixed outlier ratio (negative: the preset's range).");
   parser.AddDefault("calibrated", &o.calibrated, "Write the true focal lengths with prior_focal_length = 1.");
   parser.AddDefault("seed", &seed, "Seed (pair k uses a seed derived from it and k).");
+  parser.AddDefault("colmap_version", &colmap_version,
+                    "Schema of the database, as that COLMAP release creates it (docs/formats.md):" + versions + ".");
   if (!parser.Parse(argc, argv, 2)) return EXIT_FAILURE;
   if (parser.help_requested()) return EXIT_SUCCESS;
   o.seed = static_cast<uint64_t>(seed);
   try {
+    o.colmap_release = colmap::ParseColmapRelease(colmap_version);
     const colmap::SyntheticProject p = colmap::WriteSyntheticProject(o);
     std::printf("synth_project: %d pairs -> %s, depths in %s\n", o.num_pairs, p.database_path.c_str(),
                 p.depth_path.c_str());

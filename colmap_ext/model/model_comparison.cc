@@ -149,8 +149,9 @@ ModelComparison CompareToGroundTruth(const Reconstruction& model, const GroundTr
       throw std::runtime_error("model has two images named '" + image.name + "'");
     }
     if (model.cameras.count(image.camera_id) == 0) {
-      throw std::runtime_error("model image " + std::to_string(id) + " uses missing camera " +
-                               std::to_string(image.camera_id));
+      throw std::runtime_error("model image '" + image.name + "' (image_id " + std::to_string(id) +
+                               ") uses camera_id " + std::to_string(image.camera_id) + ", which the model does not "
+                               "contain");
     }
   }
 

@@ -95,12 +95,18 @@ class BinaryCursor {
   size_t pos_ = 0;
 };
 
+// "'name' (image_id N)": how errors name an image of the model.
+std::string ImageLabel(uint32_t image_id, const ModelImage& image) {
+  return "'" + image.name + "' (image_id " + std::to_string(image_id) + ")";
+}
+
+// Called once the image (name included) is read.
 void CheckFiniteQvecTvec(const ModelImage& image, const std::string& path) {
   if (!image.qvec.allFinite() || !image.tvec.allFinite()) {
-    Fail(path, "image " + std::to_string(image.image_id) + " has a non-finite pose");
+    Fail(path, "image " + ImageLabel(image.image_id, image) + " has a non-finite pose");
   }
   if (!(image.qvec.norm() > 1e-12)) {
-    Fail(path, "image " + std::to_string(image.image_id) + " has a zero quaternion");
+    Fail(path, "image " + ImageLabel(image.image_id, image) + " has a zero quaternion");
   }
 }
 
@@ -399,7 +405,7 @@ void CheckConsistency(const Reconstruction& model, const std::string& cameras_pa
   std::map<uint32_t, std::vector<bool>> claimed;  // points2D already claimed by a track element
   for (const auto& [image_id, image] : model.images) {
     if (model.cameras.count(image.camera_id) == 0) {
-      Fail(images_path, "image " + std::to_string(image_id) + " uses camera " + std::to_string(image.camera_id) +
+      Fail(images_path, "image " + ImageLabel(image_id, image) + " uses camera_id " + std::to_string(image.camera_id) +
                             ", which " + cameras_file + " does not contain");
     }
     for (const uint64_t id : image.point3D_ids) num_observations += id != kInvalidPoint3DId;
@@ -417,7 +423,8 @@ void CheckConsistency(const Reconstruction& model, const std::string& cameras_pa
       if (point2D_idx >= it->second.point3D_ids.size() || it->second.point3D_ids[point2D_idx] != point_id) {
         Fail(points_path, "3-D point " + std::to_string(point_id) + " track element (" + std::to_string(image_id) +
                               ", " + std::to_string(point2D_idx) + ") does not match point2D " +
-                              std::to_string(point2D_idx) + " of that image in " + images_file);
+                              std::to_string(point2D_idx) + " of image " + ImageLabel(image_id, it->second) + " in " +
+                              images_file);
       }
       std::vector<bool>& flags = claimed[image_id];
       if (flags[point2D_idx]) {
@@ -436,11 +443,11 @@ void CheckConsistency(const Reconstruction& model, const std::string& cameras_pa
       const uint64_t id = image.point3D_ids[k];
       if (id == kInvalidPoint3DId || flags[k]) continue;
       if (model.points3D.count(id) == 0) {
-        Fail(images_path, "image " + std::to_string(image_id) + " point2D " + std::to_string(k) +
+        Fail(images_path, "image " + ImageLabel(image_id, image) + " point2D " + std::to_string(k) +
                               " refers to 3-D point " + std::to_string(id) + ", which " + points_file +
                               " does not contain");
       }
-      Fail(images_path, "image " + std::to_string(image_id) + " point2D " + std::to_string(k) +
+      Fail(images_path, "image " + ImageLabel(image_id, image) + " point2D " + std::to_string(k) +
                             " refers to 3-D point " + std::to_string(id) + ", whose track in " + points_file +
                             " does not list it");
     }
@@ -450,25 +457,38 @@ void CheckConsistency(const Reconstruction& model, const std::string& cameras_pa
 // ---------------------------------------------------------------------------------------------------------------
 // Writing.
 
+// "camera_id N (used by 'a.png', 'b.png')": how the writers' errors name a camera of the model.
+std::string CameraLabel(const Reconstruction& model, uint32_t camera_id) {
+  std::string names;
+  int count = 0;
+  for (const auto& [image_id, image] : model.images) {
+    if (image.camera_id != camera_id) continue;
+    if (count < 3) names += (count > 0 ? ", '" : "'") + image.name + "'";
+    ++count;
+  }
+  if (count > 3) names += " and " + std::to_string(count - 3) + " more";
+  return "camera_id " + std::to_string(camera_id) + (count > 0 ? " (used by " + names + ")" : " (used by no image)");
+}
+
 void CheckWritable(const Reconstruction& model) {
   for (const auto& [id, camera] : model.cameras) {
     const int n = CameraModelNumParams(camera.intrinsics.model_id);
     if (n < 0) {
-      throw std::invalid_argument("camera " + std::to_string(id) + " has unknown model id " +
+      throw std::invalid_argument(CameraLabel(model, id) + " has unknown model id " +
                                   std::to_string(camera.intrinsics.model_id));
     }
     if (camera.intrinsics.params.size() != static_cast<size_t>(n)) {
-      throw std::invalid_argument("camera " + std::to_string(id) + " (" + CameraModelName(camera.intrinsics.model_id) +
+      throw std::invalid_argument(CameraLabel(model, id) + " (" + CameraModelName(camera.intrinsics.model_id) +
                                   ") has " + std::to_string(camera.intrinsics.params.size()) + " parameters, needs " +
                                   std::to_string(n));
     }
     if (camera.intrinsics.width < 0 || camera.intrinsics.height < 0) {
-      throw std::invalid_argument("camera " + std::to_string(id) + " has a negative size");
+      throw std::invalid_argument(CameraLabel(model, id) + " has a negative size");
     }
   }
   for (const auto& [id, image] : model.images) {
     if (image.points2D.size() != image.point3D_ids.size()) {
-      throw std::invalid_argument("image " + std::to_string(id) + ": points2D and point3D_ids differ in size");
+      throw std::invalid_argument("image " + ImageLabel(id, image) + ": points2D and point3D_ids differ in size");
     }
     if (image.name.empty() || image.name.find('\0') != std::string::npos) {
       throw std::invalid_argument("image " + std::to_string(id) + " has an empty name or one containing NUL");

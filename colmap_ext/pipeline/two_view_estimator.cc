@@ -112,7 +112,20 @@ void EstimatePair(const TwoViewEstimatorOptions& options, PairJob* job) {
     job->point_fallback = true;
   }
   job->estimate = EstimateHybridRelpose(p, eo);
-  job->ok = job->estimate.success && job->estimate.num_inliers_sampson >= options.min_num_inliers;
+  // A model that could not be written as a real pose (non-finite, zero translation, no focal) is a failure: the pair
+  // keeps COLMAP's row and never gets a placeholder pose.
+  const AffineDepthPose& m = job->estimate.model;
+  const bool focal_ok = job->mode == CameraMode::kCalibrated ||
+                        (std::isfinite(m.f0) && std::isfinite(m.f1) && m.f0 > 0 && m.f1 > 0);
+  const bool pose_ok = m.R.allFinite() && m.t.allFinite() && m.t.norm() > 0 && focal_ok;
+  job->ok = job->estimate.success && pose_ok && job->estimate.num_inliers_sampson >= options.min_num_inliers;
+}
+
+// The pair's camera with the focal the solver estimated (COLMAP main's two_view_geometries.camera1 / camera2).
+colmap::Camera WithEstimatedFocal(const colmap::Camera& camera, double focal) {
+  colmap::Camera estimated = camera;
+  estimated.intrinsics.SetFocal(focal);
+  return estimated;
 }
 
 colmap::TwoViewGeometryRow MakeGeometryRow(const PairJob& job) {
@@ -143,11 +156,13 @@ colmap::TwoViewGeometryRow MakeGeometryRow(const PairJob& job) {
   Eigen::Matrix3d F = K2.inverse().transpose() * E * K1.inverse();
   F /= F.norm();
   row.F = F;
+  row.E = E;  // in focal modes: E of the estimated focals, which go with it into camera1 / camera2
   if (job.mode == CameraMode::kCalibrated) {
     row.config = colmap::kCalibrated;
-    row.E = E;
   } else {
-    row.config = colmap::kUncalibrated;
+    row.config = colmap::kUncalibrated;  // as COLMAP labels pairs whose focal its own solver estimated
+    row.camera1 = WithEstimatedFocal(*job.image1->camera, m.f0);
+    row.camera2 = WithEstimatedFocal(*job.image2->camera, m.f1);
   }
   row.qvec = colmap::RotationToQuaternion(m.R);
   row.tvec = t_unit;
@@ -190,13 +205,12 @@ bool TableExists(const colmap::Database& db, const std::string& table) {
   return false;
 }
 
-void CheckMatches(const std::string& db_path, pair_t pair_id, image_t i1, image_t i2,
-                  const std::vector<std::array<uint32_t, 2>>& matches, size_t n1, size_t n2) {
+void CheckMatches(const colmap::Database& db, pair_t pair_id, const std::vector<std::array<uint32_t, 2>>& matches,
+                  size_t n1, size_t n2) {
   for (const auto& m : matches) {
     if (m[0] >= n1 || m[1] >= n2) {
-      throw std::runtime_error("database '" + db_path + "': matches of pair " + std::to_string(pair_id) +
-                               " (images " + std::to_string(i1) + ", " + std::to_string(i2) +
-                               ") point past the keypoints (" + std::to_string(m[0]) + ", " + std::to_string(m[1]) +
+      throw std::runtime_error("database '" + db.path() + "': matches of " + db.DescribePair(pair_id) +
+                               " point past the keypoints (" + std::to_string(m[0]) + ", " + std::to_string(m[1]) +
                                " vs " + std::to_string(n1) + ", " + std::to_string(n2) + " keypoints)");
     }
   }
@@ -450,9 +464,9 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
     image_t i1, i2;
     colmap::PairIdToImagePair(pair_id, &i1, &i2);
     if (!images.count(i1) || !images.count(i2)) {
-      throw std::runtime_error("database '" + options.database_path + "': pair " + std::to_string(pair_id) +
-                               " refers to image " + std::to_string(images.count(i1) ? i2 : i1) +
-                               " which is not in the images table");
+      throw std::runtime_error("database '" + options.database_path + "': " + db->DescribePair(pair_id) +
+                               " has matches, but image_id " + std::to_string(images.count(i1) ? i2 : i1) +
+                               " is not in the images table");
     }
     todo.push_back(pair_id);
     needed.insert(i1);
@@ -465,15 +479,15 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
     ImageData& data = images[id];
     const auto cam = camera_by_id.find(data.image.camera_id);
     if (cam == camera_by_id.end()) {
-      throw std::runtime_error("database '" + options.database_path + "': image " + std::to_string(id) + " ('" +
-                               data.image.name + "') uses camera " + std::to_string(data.image.camera_id) +
-                               " which is not in the cameras table");
+      throw std::runtime_error("database '" + options.database_path + "': " + db->DescribeImage(id) +
+                               " uses camera_id " + std::to_string(data.image.camera_id) +
+                               ", which is not in the cameras table");
     }
     data.camera = cam->second;
     const colmap::CameraIntrinsics& k = data.camera->intrinsics;
     if (!colmap::IsSupportedCameraModel(k.model_id)) {
-      throw std::runtime_error("database '" + options.database_path + "': camera " +
-                               std::to_string(data.camera->camera_id) + " has model " +
+      throw std::runtime_error("database '" + options.database_path + "': " +
+                               db->DescribeCamera(data.camera->camera_id) + " has model " +
                                colmap::CameraModelName(k.model_id) +
                                ", which madsfm does not support (supported: SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, "
                                "RADIAL, OPENCV, FULL_OPENCV, OPENCV_FISHEYE)");
@@ -499,8 +513,7 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
   for (pair_t pair_id : todo) {
     image_t i1, i2;
     colmap::PairIdToImagePair(pair_id, &i1, &i2);
-    CheckMatches(options.database_path, pair_id, i1, i2, db->ReadMatches(pair_id), images[i1].normalized.size(),
-                 images[i2].normalized.size());
+    CheckMatches(*db, pair_id, db->ReadMatches(pair_id), images[i1].normalized.size(), images[i2].normalized.size());
   }
   summary.read_seconds += Seconds(t_check, Clock::now());
 

@@ -62,7 +62,8 @@ class BlobReader {
 
 std::vector<unsigned char> EncodeGeometry(const TwoViewGeometryRow& g) {
   BlobWriter w;
-  const uint8_t flags = (g.F ? 1 : 0) | (g.E ? 2 : 0) | (g.H ? 4 : 0) | (g.qvec ? 8 : 0) | (g.tvec ? 16 : 0);
+  const uint8_t flags = (g.F ? 1 : 0) | (g.E ? 2 : 0) | (g.H ? 4 : 0) | (g.qvec ? 8 : 0) | (g.tvec ? 16 : 0) |
+                        (g.camera1 ? 32 : 0) | (g.camera2 ? 64 : 0);
   w.Put(flags);
   w.Put(static_cast<int32_t>(g.config));
   w.Put(static_cast<uint64_t>(g.inlier_matches.size()));
@@ -75,6 +76,12 @@ std::vector<unsigned char> EncodeGeometry(const TwoViewGeometryRow& g) {
   }
   if (g.qvec) w.PutDoubles(g.qvec->data(), 4);
   if (g.tvec) w.PutDoubles(g.tvec->data(), 3);
+  for (const auto* camera : {&g.camera1, &g.camera2}) {
+    if (!*camera) continue;
+    const std::vector<unsigned char> blob = EncodeCameraBlob(**camera);  // COLMAP's camera blob, length first
+    w.Put(static_cast<uint32_t>(blob.size()));
+    for (unsigned char b : blob) w.Put(b);
+  }
   return w.bytes();
 }
 
@@ -110,6 +117,15 @@ TwoViewGeometryRow DecodeGeometry(pair_t pair_id, BlobReader r) {
     Eigen::Vector3d t;
     r.GetDoubles(t.data(), 3);
     g.tvec = t;
+  }
+  std::optional<Camera>* cameras[2] = {&g.camera1, &g.camera2};
+  for (int k = 0; k < 2; ++k) {
+    if (!(flags & (32 << k))) continue;
+    const auto num_bytes = r.Get<uint32_t>();
+    if (num_bytes > r.remaining()) r.Fail("blob too short for its camera" + std::to_string(k + 1));
+    std::vector<unsigned char> blob(num_bytes);
+    for (auto& b : blob) b = r.Get<unsigned char>();
+    *cameras[k] = DecodeCameraBlob(blob.data(), blob.size(), "camera" + std::to_string(k + 1) + " of the geometry");
   }
   r.ExpectEnd();
   return g;

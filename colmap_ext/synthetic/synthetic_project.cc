@@ -36,7 +36,7 @@ SyntheticProject WriteSyntheticProject(const SyntheticProjectOptions& options) {
   project.database_path = (fs::path(options.output_path) / "database.db").string();
   project.depth_path = (fs::path(options.output_path) / "depths").string();
   fs::create_directories(project.depth_path);
-  DatabaseBuilder db(project.database_path);
+  DatabaseBuilder db(project.database_path, options.colmap_release);
   db.Exec("BEGIN");
   for (int k = 0; k < options.num_pairs; ++k) {
     SyntheticPairOptions pair_options = *SyntheticPairPreset(options.preset);

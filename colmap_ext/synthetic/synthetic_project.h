@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "colmap_ext/database/database_schema.h"
 #include "madsfm/synthetic/two_view_scene.h"
 
 namespace madsfm::colmap {
@@ -25,6 +26,7 @@ struct SyntheticProjectOptions {
   bool calibrated = false;
   uint64_t seed = 0;
   bool keep_pairs = false;  // return the generated pairs (ground truth) in SyntheticProject::pairs
+  ColmapRelease colmap_release = ColmapRelease::k3_8;  // the database's schema (database_schema.h)
 
   void Check() const;  // std::invalid_argument naming the option
 };

@@ -148,6 +148,11 @@ def main():
 
     write(d, "calibrated", shard_seed(geometry(1 | 2 | 8 | 16, 2, [0, 1, 2, 3], 2, True, True)))
     write(d, "uncalibrated", shard_seed(geometry(1 | 8 | 16, 3, [5, 6], 1, True, True)))
+    # With COLMAP main's camera2 (flag 64): uint32 size, then COLMAP's camera blob (u32 id, i32 model, u64 width,
+    # u64 height, u8 prior, u64 n, n float64).
+    camera = struct.pack("<IiQQBQ", 2, 0, 640, 480, 0, 3) + floats("<d", [500, 320, 240])
+    write(d, "uncalibrated_camera2",
+          shard_seed(geometry(1 | 2 | 8 | 16 | 64, 3, [5, 6], 2, True, True) + struct.pack("<I", len(camera)) + camera))
     write(d, "no_geometry", shard_seed(None))
     write(d, "short_madsfm", struct.pack("<H", 0xFFFF) + madsfm_row[:40])
 

@@ -11,17 +11,23 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
 #include <stdexcept>
 #include <thread>
+
+#include "colmap_ext/database/database_builder.h"
+#include "colmap_ext/database/database_schema.h"
 
 namespace madsfm::colmap {
 namespace {
@@ -166,70 +172,70 @@ void CreateWithColmap(const std::string& path) {
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("colmap database_creator failed: " + cmd);
 }
 
-// Schemas as COLMAP creates them (colmap.md: 3.8 verbatim from database_creator; 3.10-4.1.1 from the sources).
-const char* kCommonTables = R"SQL(
-CREATE TABLE cameras (camera_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, model INTEGER NOT NULL, width INTEGER NOT NULL, height INTEGER NOT NULL, params BLOB, prior_focal_length INTEGER NOT NULL);
-CREATE TABLE keypoints (image_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL, data BLOB, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE CASCADE);
-CREATE TABLE matches (pair_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL, data BLOB);
-CREATE TABLE two_view_geometries (pair_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL, data BLOB, config INTEGER NOT NULL, F BLOB, E BLOB, H BLOB, qvec BLOB, tvec BLOB);
-)SQL";
-const char* kImagesWithPriors =
-    "CREATE TABLE images (image_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, name TEXT NOT NULL UNIQUE, camera_id "
-    "INTEGER NOT NULL, prior_qw REAL, prior_qx REAL, prior_qy REAL, prior_qz REAL, prior_tx REAL, prior_ty REAL, "
-    "prior_tz REAL, CONSTRAINT image_id_check CHECK(image_id >= 0 and image_id < 2147483647), FOREIGN KEY(camera_id) "
-    "REFERENCES cameras(camera_id)); CREATE UNIQUE INDEX index_name ON images(name);";
-const char* kImagesPlain =
-    "CREATE TABLE images (image_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, name TEXT NOT NULL UNIQUE, camera_id "
-    "INTEGER NOT NULL, CONSTRAINT image_id_check CHECK(image_id >= 0 and image_id < 2147483647), FOREIGN "
-    "KEY(camera_id) REFERENCES cameras(camera_id)); CREATE UNIQUE INDEX index_name ON images(name);";
-const char* kDescriptors3 =
-    "CREATE TABLE descriptors (image_id INTEGER PRIMARY KEY NOT NULL, rows INTEGER NOT NULL, cols INTEGER NOT NULL, "
-    "data BLOB, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE CASCADE);";
-const char* kDescriptors4 =
-    "CREATE TABLE descriptors (image_id INTEGER PRIMARY KEY NOT NULL, type INTEGER NOT NULL, rows INTEGER NOT NULL, "
-    "cols INTEGER NOT NULL, data BLOB, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE CASCADE);";
-const char* kPosePriors310 =
-    "CREATE TABLE pose_priors (image_id INTEGER PRIMARY KEY NOT NULL, position BLOB, coordinate_system INTEGER NOT "
-    "NULL, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE CASCADE);";
-const char* kPosePriors311 =
-    "CREATE TABLE pose_priors (image_id INTEGER PRIMARY KEY NOT NULL, position BLOB, coordinate_system INTEGER NOT "
-    "NULL, position_covariance BLOB, FOREIGN KEY(image_id) REFERENCES images(image_id) ON DELETE CASCADE);";
-const char* kPosePriors4 =
-    "CREATE TABLE pose_priors (pose_prior_id INTEGER PRIMARY KEY NOT NULL, corr_data_id INTEGER NOT NULL, "
-    "corr_sensor_id INTEGER NOT NULL, corr_sensor_type INTEGER NOT NULL, position BLOB, position_covariance BLOB, "
-    "gravity BLOB, coordinate_system INTEGER NOT NULL);";
-const char* kRigsFrames = R"SQL(
+// Databases of every COLMAP release come from DatabaseBuilder (its schemas restate each release's CREATE statements,
+// docs/formats.md); two more are what COLMAP leaves when it opens an older database.
+enum class Migration {
+  kNone,
+  k38OpenedBy311,   // 3.11 adds pose_priors (with position_covariance), keeps images.prior_*, user_version 3900
+  k38OpenedByMain,  // main adds rigs/frames, the 4.x pose_priors, descriptors.type, camera1/camera2 (ALTER TABLE)
+};
+
+struct SchemaCase {
+  std::string label;
+  ColmapRelease release;
+  Migration migration;
+  SchemaVersion expected;
+  bool cameras;  // two_view_geometries has camera1 / camera2
+  int user_version;
+};
+
+void CreateSynthetic(const std::string& path, const SchemaCase& c) {
+  { DatabaseBuilder builder(path, c.release); }
+  RawDb db(path);
+  switch (c.migration) {
+    case Migration::kNone:
+      break;
+    case Migration::k38OpenedBy311:
+      db.Exec("CREATE TABLE pose_priors (image_id INTEGER PRIMARY KEY NOT NULL, position BLOB, coordinate_system "
+              "INTEGER NOT NULL, position_covariance BLOB, FOREIGN KEY(image_id) REFERENCES images(image_id) ON "
+              "DELETE CASCADE); PRAGMA user_version = 3900;");
+      break;
+    case Migration::k38OpenedByMain:
+      db.Exec(R"SQL(
 CREATE TABLE rigs (rig_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, ref_sensor_id INTEGER NOT NULL, ref_sensor_type INTEGER NOT NULL);
 CREATE TABLE rig_sensors (rig_id INTEGER NOT NULL, sensor_id INTEGER NOT NULL, sensor_type INTEGER NOT NULL, sensor_from_rig BLOB, FOREIGN KEY(rig_id) REFERENCES rigs(rig_id) ON DELETE CASCADE);
 CREATE TABLE frames (frame_id INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, rig_id INTEGER NOT NULL, FOREIGN KEY(rig_id) REFERENCES rigs(rig_id) ON DELETE CASCADE);
 CREATE TABLE frame_data (frame_id INTEGER NOT NULL, data_id INTEGER NOT NULL, sensor_id INTEGER NOT NULL, sensor_type INTEGER NOT NULL, FOREIGN KEY(frame_id) REFERENCES frames(frame_id) ON DELETE CASCADE);
-)SQL";
-
-enum class SyntheticSchema { k38, k310, k311, k312, k4, k38MigratedTo310 };
-
-void CreateSynthetic(const std::string& path, SyntheticSchema schema) {
-  RawDb db(path);
-  db.Exec(kCommonTables);
-  switch (schema) {
-    case SyntheticSchema::k38:
-      db.Exec(std::string(kImagesWithPriors) + kDescriptors3);
-      break;
-    case SyntheticSchema::k310:
-      db.Exec(std::string(kImagesPlain) + kDescriptors3 + kPosePriors310);
-      break;
-    case SyntheticSchema::k311:
-      db.Exec(std::string(kImagesPlain) + kDescriptors3 + kPosePriors311);
-      break;
-    case SyntheticSchema::k312:
-      db.Exec(std::string(kImagesPlain) + kDescriptors3 + kPosePriors311 + kRigsFrames);
-      break;
-    case SyntheticSchema::k4:
-      db.Exec(std::string(kImagesPlain) + kDescriptors4 + kPosePriors4 + kRigsFrames);
-      break;
-    case SyntheticSchema::k38MigratedTo310:
-      db.Exec(std::string(kImagesWithPriors) + kDescriptors3 + kPosePriors311);
+CREATE TABLE pose_priors (pose_prior_id INTEGER PRIMARY KEY NOT NULL, corr_data_id INTEGER NOT NULL, corr_sensor_id INTEGER NOT NULL, corr_sensor_type INTEGER NOT NULL, position BLOB, position_covariance BLOB, gravity BLOB, coordinate_system INTEGER NOT NULL);
+ALTER TABLE descriptors ADD COLUMN type INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE two_view_geometries ADD COLUMN camera1 BLOB;
+ALTER TABLE two_view_geometries ADD COLUMN camera2 BLOB;
+PRAGMA user_version = 4020000;
+)SQL");
       break;
   }
+}
+
+std::vector<SchemaCase> AllSchemaCases() {
+  std::vector<SchemaCase> cases;
+  for (ColmapRelease r : AllColmapReleases()) {
+    SchemaCase c{ColmapReleaseName(r), r, Migration::kNone, SchemaVersion::kColmap4, r == ColmapRelease::kMain,
+                 ColmapReleaseUserVersion(r)};
+    if (r == ColmapRelease::k3_8 || r == ColmapRelease::k3_9) c.expected = SchemaVersion::kColmap38;
+    if (r == ColmapRelease::k3_10 || r == ColmapRelease::k3_11) c.expected = SchemaVersion::kColmap310;
+    if (r == ColmapRelease::k3_12 || r == ColmapRelease::k3_13) c.expected = SchemaVersion::kColmap312;
+    cases.push_back(c);
+  }
+  cases.push_back({"3.8 opened by 3.11", ColmapRelease::k3_8, Migration::k38OpenedBy311, SchemaVersion::kColmap310,
+                   false, 3900});
+  cases.push_back({"3.8 opened by main", ColmapRelease::k3_8, Migration::k38OpenedByMain, SchemaVersion::kColmap4,
+                   true, 4020000});
+  return cases;
+}
+
+bool HasCameraColumns(RawDb* db) {
+  return db->QueryInt("SELECT count(*) FROM pragma_table_info('two_view_geometries') WHERE name IN "
+                      "('camera1', 'camera2')") == 2;
 }
 
 // What Populate() wrote, for exact comparison.
@@ -345,6 +351,15 @@ Expected Populate(const std::string& path, bool exotic_cameras) {
             BlobOf(RowMajor(*row.E)), BlobOf(RowMajor(*row.H)),
             BlobOf(std::vector<double>(row.qvec->data(), row.qvec->data() + 4)),
             BlobOf(std::vector<double>(row.tvec->data(), row.tvec->data() + 3))});
+    if (HasCameraColumns(&db)) {
+      // COLMAP main's solver estimated image 1's focal (its camera with another focal); image 2's not (NULL).
+      Camera camera1 = e.cameras[0];
+      camera1.intrinsics.SetFocal(655.5);
+      row.camera1 = camera1;
+      const std::vector<unsigned char> blob = EncodeCameraBlob(camera1);
+      db.Run("UPDATE two_view_geometries SET camera1 = ?, camera2 = NULL WHERE pair_id = ?",
+             {RawDb::Value::Blob(blob.data(), blob.size()), static_cast<int64_t>(row.pair_id)});
+    }
     e.two_view[row.pair_id] = row;
   }
   {
@@ -391,6 +406,26 @@ void ExpectSameRow(const TwoViewGeometryRow& a, const TwoViewGeometryRow& b) {
     EXPECT_EQ(*a.qvec, *b.qvec);
     EXPECT_EQ(*a.tvec, *b.tvec);
   }
+  const std::optional<Camera>* ca[2] = {&a.camera1, &a.camera2};
+  const std::optional<Camera>* cb[2] = {&b.camera1, &b.camera2};
+  for (int k = 0; k < 2; ++k) {
+    ASSERT_EQ(ca[k]->has_value(), cb[k]->has_value()) << "camera" << k + 1;
+    if (!ca[k]->has_value()) continue;
+    const Camera &x = **ca[k], &y = **cb[k];
+    EXPECT_EQ(x.camera_id, y.camera_id);
+    EXPECT_EQ(x.intrinsics.model_id, y.intrinsics.model_id);
+    EXPECT_EQ(x.intrinsics.width, y.intrinsics.width);
+    EXPECT_EQ(x.intrinsics.height, y.intrinsics.height);
+    EXPECT_EQ(x.intrinsics.params, y.intrinsics.params);
+    EXPECT_EQ(x.prior_focal_length, y.prior_focal_length);
+  }
+}
+
+// What a schema without camera1 / camera2 keeps of a row.
+TwoViewGeometryRow WithoutCameras(TwoViewGeometryRow row) {
+  row.camera1.reset();
+  row.camera2.reset();
+  return row;
 }
 
 void ExpectReadsEverything(const Database& db, const Expected& e) {
@@ -446,7 +481,8 @@ std::vector<std::vector<std::vector<std::string>>> SnapshotColmapTables(const st
           db.Snapshot("SELECT * FROM matches ORDER BY pair_id"),
           db.Snapshot("SELECT * FROM two_view_geometries ORDER BY pair_id"),
           db.Snapshot("SELECT type, name, tbl_name, sql FROM sqlite_master WHERE name NOT LIKE 'madsfm%' "
-                      "ORDER BY name")};
+                      "ORDER BY name"),
+          db.Snapshot("PRAGMA user_version")};
 }
 
 std::set<std::string> MadsfmTables(const std::string& path) {
@@ -461,15 +497,20 @@ std::set<std::string> MadsfmTables(const std::string& path) {
 std::vector<TwoViewGeometryRow> NewGeometries(const Expected& e) {
   std::vector<TwoViewGeometryRow> rows;
   {
-    TwoViewGeometryRow row;  // replaces COLMAP's (1, 2): full pose
+    TwoViewGeometryRow row;  // replaces COLMAP's (1, 2): full pose and both focals estimated
     row.pair_id = ImagePairToPairId(1, 2);
     const auto& m = e.matches.at(row.pair_id);
     row.inlier_matches.assign(m.begin() + 10, m.begin() + 110);
-    row.config = kCalibrated;
+    row.config = kUncalibrated;
     row.E = Eigen::Matrix3d::Random();
     row.F = Eigen::Matrix3d::Random();
     row.qvec = Eigen::Vector4d(0.8, -0.2, 0.1, 0.3).normalized();
     row.tvec = Eigen::Vector3d(-0.5, 0.2, 0.8).normalized();
+    Camera camera1 = e.cameras[0], camera2 = e.cameras[1];  // images 1 and 2
+    camera1.intrinsics.SetFocal(612.25);
+    camera2.intrinsics.SetFocal(790.5);
+    row.camera1 = camera1;
+    row.camera2 = camera2;
     rows.push_back(row);
   }
   {
@@ -567,7 +608,7 @@ void RunWriteRestoreScenario(const std::string& path, const Expected& e) {
     for (const auto& row : rows) {
       const auto read = db->ReadTwoViewGeometry(row.pair_id);
       ASSERT_TRUE(read.has_value());
-      ExpectSameRow(*read, row);
+      ExpectSameRow(*read, db->has_two_view_cameras() ? row : WithoutCameras(row));
     }
     // A pair with a geometry but no matches row got one, holding the inlier matches.
     EXPECT_EQ(db->ReadMatches(p14), rows[2].inlier_matches);
@@ -591,6 +632,12 @@ void RunWriteRestoreScenario(const std::string& path, const Expected& e) {
   }
   EXPECT_EQ(IntegrityCheck(path), "ok");
   {
+    // While madsfm's rows are in, COLMAP's schema (tables, columns, indexes) and user_version are as they were.
+    const auto written = SnapshotColmapTables(path);
+    EXPECT_EQ(written[5], original[5]) << "schema changed";
+    EXPECT_EQ(written[6], original[6]) << "user_version changed";
+  }
+  {
     // Blob sizes and NULLs as COLMAP expects them.
     RawDb raw(path);
     const std::string where = " FROM two_view_geometries WHERE pair_id = ";
@@ -612,6 +659,36 @@ void RunWriteRestoreScenario(const std::string& path, const Expected& e) {
     std::memcpy(&f01, cell.data() + cell.find(':') + 1 + sizeof(double), sizeof(double));
     EXPECT_EQ(f01, (*rows[0].F)(0, 1));
     EXPECT_EQ(raw.QueryInt("SELECT count(*) FROM madsfm_created_matches"), 1);
+    if (HasCameraColumns(&raw)) {
+      // COLMAP's camera blob, decoded by hand: u32 camera_id, i32 model, u64 width, u64 height, u8 prior, u64 n,
+      // n x f64 (PINHOLE: 33 + 4 x 8 bytes). Pairs written without cameras have NULL.
+      const std::string cell = raw.Snapshot("SELECT camera2" + where + p12)[0][0];
+      const std::string blob = cell.substr(cell.find(':') + 1);
+      ASSERT_EQ(blob.size(), 65u);
+      uint32_t camera_id;
+      int32_t model;
+      uint64_t width, height, n;
+      double params[4];
+      std::memcpy(&camera_id, blob.data(), 4);
+      std::memcpy(&model, blob.data() + 4, 4);
+      std::memcpy(&width, blob.data() + 8, 8);
+      std::memcpy(&height, blob.data() + 16, 8);
+      std::memcpy(&n, blob.data() + 25, 8);
+      std::memcpy(params, blob.data() + 33, 32);
+      EXPECT_EQ(camera_id, 2u);
+      EXPECT_EQ(model, 1);  // PINHOLE
+      EXPECT_EQ(width, 1024u);
+      EXPECT_EQ(height, 768u);
+      EXPECT_EQ(blob[24], 1);  // camera 2 has a focal prior in the cameras table; the blob keeps the flag
+      EXPECT_EQ(n, 4u);
+      EXPECT_EQ(params[0], 790.5);  // fx
+      EXPECT_EQ(params[1], 790.5 * (810.0 / 800.0));  // fy: SetFocal keeps the camera's aspect ratio
+      EXPECT_EQ(params[2], 512.5);
+      EXPECT_EQ(params[3], 383.5);
+      EXPECT_EQ(raw.QueryText("SELECT typeof(camera1) || ',' || typeof(camera2)" + where + p23), "null,null");
+    } else {
+      EXPECT_FALSE(Database::Open(path, true)->has_two_view_cameras());
+    }
   }
   {
     // madsfm's own rows, read-only.
@@ -677,6 +754,29 @@ TEST_F(Colmap38Database, DetectsSchema) {
   EXPECT_TRUE(db->ReadMatchedPairs().empty());
 }
 
+// DatabaseBuilder's 3.8 schema is the one `colmap database_creator` 3.8 makes: same tables, columns (type, NOT NULL,
+// default, primary key), indexes, foreign keys and user_version (the CREATE text differs only in white space).
+TEST_F(Colmap38Database, BuilderSchemaEqualsDatabaseCreator) {
+  const std::string ours = dir_.File("builder.db");
+  { DatabaseBuilder builder(ours, ColmapRelease::k3_8); }
+  const auto describe = [](const std::string& path) {
+    RawDb db(path);
+    std::vector<std::vector<std::vector<std::string>>> out;
+    out.push_back(db.Snapshot("SELECT type, name, tbl_name FROM sqlite_master ORDER BY name"));
+    for (const auto& row : out[0]) {
+      const std::string name = row[1].substr(row[1].find(':') + 1);
+      if (row[0].find("table") == std::string::npos) continue;
+      out.push_back(db.Snapshot("PRAGMA table_info('" + name + "')"));
+      out.push_back(db.Snapshot("PRAGMA index_list('" + name + "')"));
+      out.push_back(db.Snapshot("PRAGMA foreign_key_list('" + name + "')"));
+    }
+    out.push_back(db.Snapshot("PRAGMA user_version"));
+    return out;
+  };
+  EXPECT_EQ(describe(ours), describe(path_));
+  EXPECT_EQ(RawDb(path_).QueryInt("PRAGMA user_version"), ColmapReleaseUserVersion(ColmapRelease::k3_8));
+}
+
 TEST_F(Colmap38Database, ReadsEverythingBackExactly) {
   const Expected e = Populate(path_, /*exotic_cameras=*/true);
   auto db = Database::Open(path_, /*read_only=*/true);
@@ -727,7 +827,8 @@ TEST_F(Colmap38Database, ColmapReadsWhatMadsfmWrote) {
       continue;
     }
     ASSERT_TRUE(read.has_value()) << row.pair_id;
-    ExpectSameRow(*read, row);  // COLMAP writes absent matrices as zeros, which read back as absent
+    // COLMAP writes absent matrices as zeros, which read back as absent; 3.8 has no camera1 / camera2.
+    ExpectSameRow(*read, WithoutCameras(row));
     EXPECT_EQ(db->ReadMatches(row.pair_id).size(),
               e.matches.count(row.pair_id) ? e.matches.at(row.pair_id).size() : row.inlier_matches.size());
   }
@@ -737,46 +838,201 @@ TEST_F(Colmap38Database, ColmapReadsWhatMadsfmWrote) {
 // ---------------------------------------------------------------------------------------------------------------
 // Synthetic schemas of every supported version.
 
-struct SchemaCase {
-  SyntheticSchema schema;
-  SchemaVersion expected;
-  const char* label;
-};
-
 class SyntheticSchemaTest : public ::testing::TestWithParam<SchemaCase> {};
 
 TEST_P(SyntheticSchemaTest, DetectsReadsWritesRestores) {
   TempDir dir;
   const std::string path = dir.File("synthetic.db");
-  CreateSynthetic(path, GetParam().schema);
+  CreateSynthetic(path, GetParam());
+  {
+    RawDb raw(path);
+    EXPECT_EQ(raw.QueryInt("PRAGMA user_version"), GetParam().user_version);
+    EXPECT_EQ(HasCameraColumns(&raw), GetParam().cameras);
+  }
   const Expected e = Populate(path, /*exotic_cameras=*/true);
   {
     auto db = Database::Open(path, /*read_only=*/true);
     EXPECT_EQ(db->schema(), GetParam().expected) << GetParam().label;
+    EXPECT_EQ(db->has_two_view_cameras(), GetParam().cameras);
+    EXPECT_EQ(db->user_version(), GetParam().user_version);
     ExpectReadsEverything(*db, e);
   }
+  // Also checks that the schema and user_version are exactly as before, after writing and after restoring.
   RunWriteRestoreScenario(path, e);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Versions, SyntheticSchemaTest,
-    ::testing::Values(SchemaCase{SyntheticSchema::k38, SchemaVersion::kColmap38, "3.8"},
-                      SchemaCase{SyntheticSchema::k310, SchemaVersion::kColmap310, "3.10"},
-                      SchemaCase{SyntheticSchema::k311, SchemaVersion::kColmap310, "3.11"},
-                      SchemaCase{SyntheticSchema::k38MigratedTo310, SchemaVersion::kColmap310, "3.8 opened by 3.11"},
-                      SchemaCase{SyntheticSchema::k312, SchemaVersion::kColmap312, "3.12"},
-                      SchemaCase{SyntheticSchema::k4, SchemaVersion::kColmap4, "4.1.1"}),
-    [](const ::testing::TestParamInfo<SchemaCase>& info) {
-      switch (info.param.schema) {
-        case SyntheticSchema::k38: return std::string("Colmap38");
-        case SyntheticSchema::k310: return std::string("Colmap310");
-        case SyntheticSchema::k311: return std::string("Colmap311");
-        case SyntheticSchema::k312: return std::string("Colmap312");
-        case SyntheticSchema::k4: return std::string("Colmap4");
-        case SyntheticSchema::k38MigratedTo310: return std::string("Colmap38MigratedTo311");
+INSTANTIATE_TEST_SUITE_P(Versions, SyntheticSchemaTest, ::testing::ValuesIn(AllSchemaCases()),
+                         [](const ::testing::TestParamInfo<SchemaCase>& info) {
+                           std::string name = "Colmap" + info.param.label;
+                           for (char& c : name) {
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           }
+                           return name;
+                         });
+
+// The schemas themselves: the tables, columns and indexes each release has, and what madsfm writes there.
+TEST(ColmapSchemas, TablesColumnsAndIndexesPerRelease) {
+  const auto columns = [](RawDb* db, const std::string& table) {
+    std::string out;
+    for (const auto& row : db->Snapshot("SELECT name FROM pragma_table_info('" + table + "') ORDER BY cid")) {
+      out += (out.empty() ? "" : ",") + row[0].substr(row[0].find(':') + 1);
+    }
+    return out;
+  };
+  const auto names = [](RawDb* db, const std::string& type) {
+    std::string out;
+    for (const auto& row : db->Snapshot("SELECT name FROM sqlite_master WHERE type = '" + type +
+                                        "' AND name NOT LIKE 'sqlite_%' ORDER BY name")) {
+      out += (out.empty() ? "" : ",") + row[0].substr(row[0].find(':') + 1);
+    }
+    return out;
+  };
+  TempDir dir;
+  std::map<std::string, std::string> seen;
+  for (ColmapRelease release : AllColmapReleases()) {
+    const std::string name = ColmapReleaseName(release);
+    const std::string path = dir.File(name + ".db");
+    CreateColmapDatabase(path, release);
+    RawDb db(path);
+    const bool rigs = release >= ColmapRelease::k3_12, v4 = release >= ColmapRelease::k4_0;
+    EXPECT_EQ(names(&db, "table"),
+              std::string("cameras,descriptors,") + (rigs ? "frame_data,frames," : "") + "images,keypoints,matches," +
+                  (release >= ColmapRelease::k3_10 ? "pose_priors," : "") + (rigs ? "rig_sensors,rigs," : "") +
+                  "two_view_geometries")
+        << name;
+    EXPECT_EQ(names(&db, "index"), std::string(rigs ? "frame_sensor_assignment," : "") + "index_name" +
+                                       (v4 ? ",pose_prior_data_assignment" : "") +
+                                       (rigs ? ",rig_ref_sensor_assignment,rig_sensor_assignment" : ""))
+        << name;
+    EXPECT_EQ(columns(&db, "images"), release >= ColmapRelease::k3_10
+                                          ? "image_id,name,camera_id"
+                                          : "image_id,name,camera_id,prior_qw,prior_qx,prior_qy,prior_qz,prior_tx,"
+                                            "prior_ty,prior_tz")
+        << name;
+    EXPECT_EQ(columns(&db, "descriptors"), v4 ? "image_id,type,rows,cols,data" : "image_id,rows,cols,data") << name;
+    EXPECT_EQ(columns(&db, "two_view_geometries"),
+              std::string("pair_id,rows,cols,data,config,F,E,H,qvec,tvec") +
+                  (release == ColmapRelease::kMain ? ",camera1,camera2" : ""))
+        << name;
+    if (release >= ColmapRelease::k3_10) {
+      EXPECT_EQ(columns(&db, "pose_priors"),
+                v4 ? "pose_prior_id,corr_data_id,corr_sensor_id,corr_sensor_type,position,position_covariance,gravity,"
+                     "coordinate_system"
+                   : release == ColmapRelease::k3_10 ? "image_id,position,coordinate_system"
+                                                     : "image_id,position,coordinate_system,position_covariance")
+          << name;
+    }
+    EXPECT_EQ(db.QueryInt("PRAGMA user_version"), ColmapReleaseUserVersion(release)) << name;
+    EXPECT_EQ(IntegrityCheck(path), "ok");
+  }
+  EXPECT_EQ(ColmapReleaseUserVersion(ColmapRelease::k3_8), 3800);
+  EXPECT_EQ(ColmapReleaseUserVersion(ColmapRelease::k3_13), 3900);
+  EXPECT_EQ(ColmapReleaseUserVersion(ColmapRelease::k4_1), 4010100);
+  for (ColmapRelease release : AllColmapReleases()) EXPECT_EQ(ParseColmapRelease(ColmapReleaseName(release)), release);
+  EXPECT_THROW(ParseColmapRelease("4.2"), std::invalid_argument);
+  // The 3.8 schema is still the one of `colmap database_creator` 3.8 (checked against the binary below).
+  EXPECT_EQ(Colmap38SchemaSql(), ColmapSchemaSql(ColmapRelease::k3_8));
+}
+
+// From 3.12 on the builder makes the rig and frame COLMAP's feature extractor makes for every single camera / image.
+TEST(ColmapSchemas, BuilderWritesTrivialRigsAndFramesFrom312) {
+  TempDir dir;
+  for (ColmapRelease release : {ColmapRelease::k3_11, ColmapRelease::k3_12, ColmapRelease::kMain}) {
+    const std::string path = dir.File(ColmapReleaseName(release) + ".db");
+    {
+      DatabaseBuilder builder(path, release);
+      const uint32_t c1 = builder.AddCamera(0, 640, 480, {500, 320, 240}, false);
+      const uint32_t c2 = builder.AddCamera(1, 800, 600, {700, 710, 400, 300}, true);
+      builder.AddImage("a.jpg", c1);
+      builder.AddImage("b.jpg", c2);
+      builder.AddImage("c.jpg", c2);
+    }
+    RawDb raw(path);
+    if (release < ColmapRelease::k3_12) {
+      EXPECT_EQ(raw.QueryInt("SELECT count(*) FROM sqlite_master WHERE name = 'rigs'"), 0);
+      continue;
+    }
+    EXPECT_EQ(raw.QueryText("SELECT group_concat(rig_id || ':' || ref_sensor_id || ':' || ref_sensor_type, ' ') "
+                            "FROM rigs"),
+              "1:1:0 2:2:0");
+    EXPECT_EQ(raw.QueryText("SELECT group_concat(frame_id || ':' || rig_id, ' ') FROM frames"), "1:1 2:2 3:2");
+    EXPECT_EQ(raw.QueryText("SELECT group_concat(frame_id || ':' || data_id || ':' || sensor_id || ':' || sensor_type, "
+                            "' ') FROM frame_data"),
+              "1:1:1:0 2:2:2:0 3:3:2:0");
+    auto db = Database::Open(path, true);
+    EXPECT_EQ(db->ReadImages().size(), 3u);
+    EXPECT_EQ(db->ReadCameras().size(), 2u);
+  }
+}
+
+// What COLMAP 4.x does to a database of user_version <= 3130000 when it opens it (PostMigrateTables, re-implemented
+// here from its description in docs/formats.md): identity-with-zero-t or all-zero poses and all-zero F/E/H become
+// NULL. Everything madsfm wrote into a 3.8 database survives it, so the global mapper sees madsfm's poses.
+TEST(ColmapSchemas, MadsfmRowsSurviveColmap4Migration) {
+  TempDir dir;
+  const std::string path = dir.File("old.db");
+  CreateColmapDatabase(path, ColmapRelease::k3_8);
+  const Expected e = Populate(path, /*exotic_cameras=*/false);
+  const std::vector<TwoViewGeometryRow> rows = NewGeometries(e);
+  {
+    auto db = Database::Open(path);
+    for (const auto& row : rows) db->WriteTwoViewGeometry(row);
+  }
+  RawDb raw(path);
+  ASSERT_LE(raw.QueryInt("PRAGMA user_version"), 3130000);
+  const auto doubles = [&](const std::string& column, pair_t pair_id) {
+    const auto cell = raw.Snapshot("SELECT " + column + " FROM two_view_geometries WHERE pair_id = " +
+                                   std::to_string(pair_id))[0][0];
+    const std::string bytes = cell.substr(cell.find(':') + 1);
+    std::vector<double> v(bytes.size() / sizeof(double));
+    if (!v.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
+    return v;  // empty for NULL
+  };
+  int poses = 0;
+  for (const auto& row : rows) {
+    const std::vector<double> q = doubles("qvec", row.pair_id), t = doubles("tvec", row.pair_id);
+    ASSERT_EQ(q.empty(), t.empty());
+    if (!q.empty()) {
+      ++poses;
+      const bool identity = q == std::vector<double>{1, 0, 0, 0} && t == std::vector<double>(3, 0.0);
+      const bool zero = q == std::vector<double>(4, 0.0);
+      EXPECT_FALSE(identity || zero) << "COLMAP 4 would drop the pose of pair " << row.pair_id;
+      EXPECT_TRUE(ConfigHasPose(row.config));
+    }
+    for (const char* m : {"F", "E", "H"}) {
+      const std::vector<double> v = doubles(m, row.pair_id);
+      if (!v.empty()) {
+        EXPECT_NE(v, std::vector<double>(9, 0.0)) << "COLMAP 4 would drop " << m << " of pair " << row.pair_id;
       }
-      return std::string("Unknown");
-    });
+    }
+  }
+  EXPECT_EQ(poses, 2);
+}
+
+// COLMAP's camera blob (two_view_geometries.camera1 / camera2) round trip and its size checks.
+TEST(ColmapSchemas, CameraBlob) {
+  Camera camera = MakeCamera(7, 4, 1920, 1080, {1500, 1490, 960, 540, -0.1, 0.01, 0.001, -0.0005}, true);
+  const std::vector<unsigned char> blob = EncodeCameraBlob(camera);
+  ASSERT_EQ(blob.size(), 33u + 8 * 8);
+  EXPECT_EQ(blob[0], 7);  // little-endian camera_id
+  EXPECT_EQ(blob[4], 4);  // OPENCV
+  EXPECT_EQ(blob[8], 1920 & 0xff);
+  EXPECT_EQ(blob[9], 1920 >> 8);
+  EXPECT_EQ(blob[24], 1);
+  EXPECT_EQ(blob[25], 8);
+  const Camera back = DecodeCameraBlob(blob.data(), blob.size(), "test");
+  EXPECT_EQ(back.camera_id, 7u);
+  EXPECT_EQ(back.intrinsics.model_id, 4);
+  EXPECT_EQ(back.intrinsics.width, 1920);
+  EXPECT_EQ(back.intrinsics.height, 1080);
+  EXPECT_EQ(back.intrinsics.params, camera.intrinsics.params);
+  EXPECT_TRUE(back.prior_focal_length);
+  EXPECT_THROW(DecodeCameraBlob(blob.data(), blob.size() - 1, "test"), std::runtime_error);
+  EXPECT_THROW(DecodeCameraBlob(blob.data(), 20, "test"), std::runtime_error);
+  std::vector<unsigned char> huge = blob;
+  huge[32] = 0x7f;  // a corrupt parameter count must not allocate
+  EXPECT_THROW(DecodeCameraBlob(huge.data(), huge.size(), "test"), std::runtime_error);
+}
 
 // ---------------------------------------------------------------------------------------------------------------
 // Bad inputs and failure modes.
@@ -801,7 +1057,7 @@ class SyntheticDatabase : public ::testing::Test {
   // A populated synthetic 3.8 database (does not need the colmap binary).
   std::string MakeDb(const std::string& name) {
     const std::string path = dir_.File(name);
-    CreateSynthetic(path, SyntheticSchema::k38);
+    { DatabaseBuilder builder(path, ColmapRelease::k3_8); }
     expected_ = Populate(path, /*exotic_cameras=*/false);
     return path;
   }
@@ -848,8 +1104,9 @@ TEST_F(SyntheticDatabase, KeypointBlobSizeMismatch) {
   RawDb(path).Exec("UPDATE keypoints SET rows = rows + 1 WHERE image_id = 3");
   RawDb(path).Exec("UPDATE keypoints SET cols = 3, rows = 1000 WHERE image_id = 2");
   auto db = Database::Open(path, true);
-  ExpectErrorContaining([&] { db->ReadKeypoints(3); }, {"kp.db", "image_id 3", "bytes"});
-  ExpectErrorContaining([&] { db->ReadKeypoints(2); }, {"kp.db", "image_id 2", "cols = 3"});
+  ExpectErrorContaining([&] { db->ReadKeypoints(3); },
+                        {"kp.db", "keypoints of 'b/c/img3.jpg' (image_id 3): blob has 1600 bytes, expected 1608"});
+  ExpectErrorContaining([&] { db->ReadKeypoints(2); }, {"kp.db", "'img2.png' (image_id 2)", "cols = 3"});
   EXPECT_EQ(db->ReadKeypoints(1).size(), 500u);  // the others still read
 }
 
@@ -858,12 +1115,18 @@ TEST_F(SyntheticDatabase, MatchesBlobSizeMismatch) {
   const pair_t pair_id = ImagePairToPairId(2, 3);
   RawDb(path).Exec("UPDATE matches SET rows = 61 WHERE pair_id = " + std::to_string(pair_id));
   auto db = Database::Open(path, true);
-  ExpectErrorContaining([&] { db->ReadMatches(pair_id); }, {"matches.db", "pair " + std::to_string(pair_id),
-                                                             "images 2, 3"});
+  ExpectErrorContaining([&] { db->ReadMatches(pair_id); },
+                        {"matches.db", "matches of pair " + std::to_string(pair_id) +
+                                           " ('img2.png' (image_id 2), 'b/c/img3.jpg' (image_id 3))"});
   // Inlier matches of a geometry likewise, and an F blob of float32 (36 bytes).
   const pair_t p12 = ImagePairToPairId(1, 2);
   RawDb(path).Exec("UPDATE two_view_geometries SET F = zeroblob(36) WHERE pair_id = " + std::to_string(p12));
-  ExpectErrorContaining([&] { db->ReadTwoViewGeometry(p12); }, {"matches.db", "images 1, 2", "F", "36 bytes"});
+  ExpectErrorContaining([&] { db->ReadTwoViewGeometry(p12); },
+                        {"matches.db", "('a/img1.jpg' (image_id 1), 'img2.png' (image_id 2))", "F", "36 bytes"});
+  // An image id the images table does not have is said to be missing.
+  EXPECT_EQ(db->DescribeImage(77), "image_id 77 (not in the images table)");
+  EXPECT_EQ(db->DescribeCamera(1), "camera_id 1 (used by 'a/img1.jpg', 'img4.jpg')");
+  EXPECT_EQ(db->DescribeCamera(9), "camera_id 9 (not in the cameras table)");
 }
 
 TEST_F(SyntheticDatabase, CameraParamsOfTheWrongLength) {
@@ -872,7 +1135,9 @@ TEST_F(SyntheticDatabase, CameraParamsOfTheWrongLength) {
   const std::vector<double> params = {800, 810, 512};  // PINHOLE needs 4
   raw.Run("UPDATE cameras SET params = ? WHERE camera_id = 2", {BlobOf(params)});
   auto db = Database::Open(path, true);
-  ExpectErrorContaining([&] { db->ReadCameras(); }, {"cameras.db", "camera_id 2", "PINHOLE"});
+  ExpectErrorContaining([&] { db->ReadCameras(); },
+                        {"cameras.db", "params of camera_id 2 (used by 'img2.png', 'img5.jpg') have 3 values",
+                         "PINHOLE"});
 }
 
 TEST_F(SyntheticDatabase, InvalidWrites) {
@@ -890,8 +1155,89 @@ TEST_F(SyntheticDatabase, InvalidWrites) {
   EXPECT_THROW(db->UpdateCamera(camera), std::invalid_argument);
   camera = expected_.cameras[1];
   camera.camera_id = 42;
-  ExpectErrorContaining([&] { db->UpdateCamera(camera); }, {"writes.db", "camera_id 42"});
+  ExpectErrorContaining([&] { db->UpdateCamera(camera); }, {"writes.db", "camera_id 42 (not in the cameras table)"});
   EXPECT_EQ(IntegrityCheck(path), "ok");
+}
+
+// Runs f, expects a std::invalid_argument whose message contains every one of needles.
+template <typename F>
+void ExpectInvalidArgument(F&& f, const std::vector<std::string>& needles) {
+  try {
+    f();
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& error) {
+    const std::string message = error.what();
+    for (const std::string& needle : needles) {
+      EXPECT_NE(message.find(needle), std::string::npos) << "'" << needle << "' not in: " << message;
+    }
+    std::printf("[ message  ] %s\n", message.c_str());
+  }
+}
+
+// madsfm never writes a pose COLMAP would take for "not estimated" (and 4.x would set to NULL), a pose on a pair
+// whose config says it has none, placeholder matrices, or cameras that are not the images' cameras. Nothing of a
+// rejected write reaches the database.
+TEST(WriteChecks, NoPlaceholderPosesOrForeignCameras) {
+  TempDir dir;
+  const std::string path = dir.File("main.db");
+  CreateColmapDatabase(path, ColmapRelease::kMain);
+  const Expected e = Populate(path, /*exotic_cameras=*/false);
+  const auto before = SnapshotColmapTables(path);
+  auto db = Database::Open(path);
+  ASSERT_TRUE(db->has_two_view_cameras());
+  TwoViewGeometryRow good;
+  good.pair_id = ImagePairToPairId(2, 3);
+  good.inlier_matches = {{0, 1}, {2, 3}};
+  good.config = kUncalibrated;
+  good.F = Eigen::Matrix3d::Random();
+  good.E = Eigen::Matrix3d::Random();
+  good.qvec = Eigen::Vector4d(1, 0, 0, 0);  // a pure translation: identity rotation is fine with t != 0
+  good.tvec = Eigen::Vector3d(0, 0, 1);
+  good.camera1 = e.cameras[1];  // image 2 uses camera 2
+  good.camera2 = e.cameras[2];  // image 3 uses camera 3
+  const std::string pair = "pair " + std::to_string(good.pair_id) + " ('img2.png' (image_id 2), 'b/c/img3.jpg'";
+  struct Case {
+    std::string label;
+    std::function<void(TwoViewGeometryRow*)> change;
+    std::string fragment;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<Case> cases = {
+      {"identity, zero t", [](TwoViewGeometryRow* r) { r->tvec = Eigen::Vector3d::Zero(); }, "tvec is zero"},
+      {"zero q", [](TwoViewGeometryRow* r) { r->qvec = Eigen::Vector4d::Zero(); }, "not a unit quaternion"},
+      {"non-unit q", [](TwoViewGeometryRow* r) { r->qvec = Eigen::Vector4d(1, 1, 0, 0); }, "not a unit quaternion"},
+      {"nan t", [nan](TwoViewGeometryRow* r) { r->tvec = Eigen::Vector3d(nan, 0, 1); }, "not finite"},
+      {"qvec only", [](TwoViewGeometryRow* r) { r->tvec.reset(); }, "both be set"},
+      {"degenerate", [](TwoViewGeometryRow* r) { r->config = kDegenerate; }, "config 1 has no pose"},
+      {"undefined", [](TwoViewGeometryRow* r) { r->config = kUndefined; }, "config 0 has no pose"},
+      {"zero F", [](TwoViewGeometryRow* r) { r->F = Eigen::Matrix3d::Zero(); }, "F is all zero"},
+      {"inf E", [](TwoViewGeometryRow* r) { (*r->E)(1, 1) = INFINITY; }, "E is not finite"},
+      {"cameras without E", [](TwoViewGeometryRow* r) { r->E.reset(); }, "need E"},
+      {"camera of another image", [&](TwoViewGeometryRow* r) { r->camera1 = e.cameras[0]; },
+       "camera1 of 'img2.png' (image_id 2) is camera_id 1"},
+      {"camera of the wrong size", [&](TwoViewGeometryRow* r) { r->camera2->intrinsics.width = 1000; },
+       "camera2 of 'b/c/img3.jpg' (image_id 3)"},
+      {"camera with NaN focal", [nan](TwoViewGeometryRow* r) { r->camera2->intrinsics.params[0] = nan; },
+       "non-finite params"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.label);
+    TwoViewGeometryRow row = good;
+    c.change(&row);
+    ExpectInvalidArgument([&] { db->WriteTwoViewGeometry(row); }, {"main.db", pair, c.fragment});
+  }
+  EXPECT_EQ(SnapshotColmapTables(path), before);
+  EXPECT_TRUE(MadsfmTables(path).empty()) << "a rejected write must not even create the backup";
+  db->WriteTwoViewGeometry(good);  // the unchanged row is fine
+  ExpectSameRow(*db->ReadTwoViewGeometry(good.pair_id), good);
+  // A pair without a pose (e.g. degenerate) is written with NULL qvec / tvec, never a placeholder.
+  TwoViewGeometryRow degenerate;
+  degenerate.pair_id = ImagePairToPairId(1, 4);
+  degenerate.config = kDegenerate;
+  db->WriteTwoViewGeometry(degenerate);
+  EXPECT_EQ(RawDb(path).QueryText("SELECT typeof(qvec) || typeof(tvec) || typeof(F) || typeof(camera1) FROM "
+                                  "two_view_geometries WHERE pair_id = " + std::to_string(degenerate.pair_id)),
+            "nullnullnullnull");
 }
 
 TEST_F(SyntheticDatabase, TransactionWithoutCommitRollsBack) {

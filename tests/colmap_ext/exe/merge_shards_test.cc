@@ -131,6 +131,28 @@ TEST(MergeShards, MergedDatabaseEqualsTheSingleProcessRun) {
   }
 }
 
+// On a database with COLMAP main's camera1 / camera2 columns the estimated cameras travel through the shard files:
+// the merged database equals the single-process run, camera blobs included.
+TEST(MergeShards, EstimatedCamerasGoThroughTheShards) {
+  const Project p = MakeProject("cameras");
+  testing::ExecSql(p.db, "ALTER TABLE two_view_geometries ADD COLUMN camera1 BLOB; "
+                         "ALTER TABLE two_view_geometries ADD COLUMN camera2 BLOB");
+  const std::string single = CopyDb(p, "single");
+  const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(Options(p, single));
+  ASSERT_GT(s.num_estimated, 8);
+  auto db = colmap::Database::Open(single, true);
+  int with_cameras = 0;
+  for (const auto& [pair_id, n] : db->ReadMatchedPairs()) {
+    const auto g = db->ReadTwoViewGeometry(pair_id);
+    with_cameras += g && g->camera1.has_value() && g->camera2.has_value();
+  }
+  db.reset();
+  EXPECT_EQ(with_cameras, s.num_estimated);  // the project's cameras have no focal prior: focal modes everywhere
+  const std::string merged = CopyDb(p, "merged");
+  Merge(merged, RunShards(p, merged, 3, 1, "cam"));
+  EXPECT_EQ(DumpAll(merged), DumpAll(single));
+}
+
 TEST(MergeShards, MergingTwiceChangesNothing) {
   const Project p = MakeProject("twice");
   const std::string db = CopyDb(p, "db");

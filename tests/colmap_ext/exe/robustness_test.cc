@@ -373,7 +373,7 @@ TEST(Robustness, ReadOnlyDatabaseFile) {
 TEST(Robustness, KeypointBlobSizeMismatchNamesTheImage) {
   const Project p = MakeProject("kp_blob", 2);
   testing::ExecSql(p.db, "UPDATE keypoints SET rows = rows + 1 WHERE image_id = 3");
-  const std::string bug = ExpectRejected(p, {p.db, "image_id 3", "bytes"});
+  const std::string bug = ExpectRejected(p, {p.db, "keypoints of 'pair1_a.png' (image_id 3): blob has", "bytes"});
   if (!bug.empty()) ADD_FAILURE() << bug;
 }
 
@@ -386,14 +386,15 @@ TEST(Robustness, MatchesPointingPastTheKeypointsNameThePair) {
   testing::ExecSql(p.db, "UPDATE matches SET rows = 21, data = x'" + HexU32(data) + "' WHERE pair_id = " +
                              PairIdText(3, 4));
   const std::string bug =
-      ExpectRejected(p, {p.db, "pair " + PairIdText(3, 4), "images 3, 4", "point past the keypoints", "9999"});
+      ExpectRejected(p, {p.db, "pair " + PairIdText(3, 4) + " ('pair1_a.png' (image_id 3), 'pair1_b.png' (image_id 4))",
+                         "point past the keypoints", "9999"});
   if (!bug.empty()) ADD_FAILURE() << bug;
 }
 
 TEST(Robustness, MatchesBlobSizeMismatchNamesThePair) {
   const Project p = MakeProject("matches_blob", 2);
   testing::ExecSql(p.db, "UPDATE matches SET rows = rows + 1 WHERE pair_id = " + PairIdText(1, 2));
-  const std::string bug = ExpectRejected(p, {p.db, "images 1, 2"});
+  const std::string bug = ExpectRejected(p, {p.db, "('pair0_a.png' (image_id 1), 'pair0_b.png' (image_id 2))"});
   if (!bug.empty()) ADD_FAILURE() << bug;
 }
 
@@ -401,7 +402,7 @@ TEST(Robustness, UnsupportedCameraModelNamesTheCamera) {
   const Project p = MakeProject("fov_camera", 2);
   // FOV (id 7, 5 params).
   testing::ExecSql(p.db, "UPDATE cameras SET model = 7, params = x'" + std::string(80, '0') + "' WHERE camera_id = 2");
-  const std::string bug = ExpectRejected(p, {p.db, "camera 2", "FOV"});
+  const std::string bug = ExpectRejected(p, {p.db, "camera_id 2 (used by 'pair1_a.png', 'pair1_b.png')", "FOV"});
   if (!bug.empty()) ADD_FAILURE() << bug;
 }
 
@@ -452,6 +453,28 @@ TEST(Robustness, MissingPairListNamesTheFile) {
 
 // ---------------------------------------------------------------------------------------------------------------
 // Command-line options
+
+// `synth_project --colmap_version` writes that release's schema; an unknown release names the option and the known
+// ones and writes nothing.
+TEST(Robustness, SynthProjectColmapVersion) {
+  const std::string dir = (fs::temp_directory_path() / "madsfm_robust_synth_version").string();
+  fs::remove_all(dir);
+  CliRun r = RunCli("synth_project --output_path " + dir + " --num_pairs 2 --colmap_version 4.0");
+  ASSERT_EQ(r.status, 0) << r.out;
+  auto db = colmap::Database::Open(dir + "/database.db", true);
+  EXPECT_EQ(db->user_version(), 4000400);
+  EXPECT_EQ(db->schema(), colmap::SchemaVersion::kColmap4);
+  EXPECT_EQ(db->ReadImages().size(), 4u);
+  db.reset();
+  fs::remove_all(dir);
+  r = RunCli("synth_project --output_path " + dir + " --num_pairs 2 --colmap_version 5.0");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_TRUE(Contains(r.out, "unknown --colmap_version '5.0' (known: 3.8, 3.9, 3.10, 3.11, 3.12, 3.13, 4.0, 4.1, "
+                              "main)"))
+      << r.out;
+  EXPECT_FALSE(fs::exists(dir + "/database.db"));
+  fs::remove_all(dir);
+}
 
 TEST(Robustness, CommandLineErrorsAreClearAndExit1) {
   struct Command {

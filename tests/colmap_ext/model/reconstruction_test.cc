@@ -579,7 +579,8 @@ TEST(ReconstructionTest, MissingFilesAndBrokenReferencesThrow) {
   Reconstruction bad = model;
   bad.images.begin()->second.camera_id = 77;
   WriteReconstructionBinary(bad, tmp.path());
-  ExpectThrowsMentioning([&] { ReadReconstruction(tmp.path()); }, "images.bin: image 3 uses camera 77");
+  ExpectThrowsMentioning([&] { ReadReconstruction(tmp.path()); },
+                         "images.bin: image '" + bad.images.begin()->second.name + "' (image_id 3) uses camera_id 77");
   // Track element that does not match the image's point3D_ids.
   bad = model;
   ModelPoint3D& point = bad.points3D.begin()->second;
@@ -601,7 +602,7 @@ TEST(ReconstructionTest, MissingFilesAndBrokenReferencesThrow) {
   image.point3D_ids[free_idx] = 123456789;
   WriteReconstructionText(bad, tmp.Sub("t"));
   ExpectThrowsMentioning([&] { ReadReconstruction(tmp.Sub("t")); },
-                         "images.txt: image 3 point2D " + std::to_string(free_idx) +
+                         "images.txt: image '" + image.name + "' (image_id 3) point2D " + std::to_string(free_idx) +
                              " refers to 3-D point 123456789, which points3D.txt does not contain");
   image.point3D_ids[free_idx] = bad.points3D.begin()->first;
   WriteReconstructionText(bad, tmp.Sub("t"));
@@ -613,6 +614,22 @@ TEST(ReconstructionTest, WritersRejectUnrepresentableModels) {
   Reconstruction model = RandomModel(14, 3, 10);
   model.cameras.begin()->second.intrinsics.params.pop_back();
   EXPECT_THROW(WriteReconstructionBinary(model, tmp.path()), std::invalid_argument);
+  try {
+    WriteReconstructionBinary(model, tmp.path());
+  } catch (const std::invalid_argument& e) {
+    // The camera is named with the images that use it.
+    const uint32_t camera_id = model.cameras.begin()->first;
+    std::string first_user;
+    for (const auto& [id, image] : model.images) {
+      if (image.camera_id == camera_id) {
+        first_user = image.name;
+        break;
+      }
+    }
+    const std::string expected = "camera_id " + std::to_string(camera_id) +
+                                 (first_user.empty() ? " (used by no image)" : " (used by '" + first_user + "'");
+    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+  }
   model = RandomModel(14, 3, 10);
   model.images.begin()->second.point3D_ids.pop_back();
   EXPECT_THROW(WriteReconstructionBinary(model, tmp.path()), std::invalid_argument);

@@ -29,7 +29,8 @@ struct Project {
   std::vector<SyntheticPair> pairs;
 };
 
-Project MakeProject(const std::string& name, int num_pairs, bool calibrated) {
+Project MakeProject(const std::string& name, int num_pairs, bool calibrated,
+                    colmap::ColmapRelease release = colmap::ColmapRelease::k3_8) {
   Project p;
   p.dir = (fs::temp_directory_path() / ("madsfm_tve_" + name)).string();
   fs::remove_all(p.dir);
@@ -42,6 +43,7 @@ Project MakeProject(const std::string& name, int num_pairs, bool calibrated) {
   o.calibrated = calibrated;
   o.seed = 7;
   o.keep_pairs = true;
+  o.colmap_release = release;
   colmap::SyntheticProject sp = colmap::WriteSyntheticProject(o);
   p.db = sp.database_path;
   p.depths = sp.depth_path;
@@ -88,6 +90,99 @@ TEST(TwoViewEstimator, EstimatesEveryPairAndWritesColmapRows) {
   }
   EXPECT_GE(accurate, 5);
 }
+
+// On a database with COLMAP main's camera1 / camera2 columns (here a 3.8 database main has opened, which adds them
+// with ALTER TABLE), the estimated focals go there in COLMAP's camera blob, next to E, F and the pose that COLMAP 4's
+// global mapper keeps; schema and user_version stay as they were.
+TEST(TwoViewEstimator, WritesEstimatedCamerasWhereTheSchemaHasThem) {
+  const Project p = MakeProject("cameras", 3, false);
+  testing::ExecSql(p.db, "ALTER TABLE two_view_geometries ADD COLUMN camera1 BLOB; "
+                         "ALTER TABLE two_view_geometries ADD COLUMN camera2 BLOB; PRAGMA user_version = 4020000;");
+  const std::string schema_before = testing::DumpTable(p.db, "sqlite_master");
+  const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(Options(p));
+  EXPECT_EQ(s.num_estimated, 3);
+  auto db = colmap::Database::Open(p.db, true);
+  ASSERT_TRUE(db->has_two_view_cameras());
+  EXPECT_EQ(db->user_version(), 4020000);
+  const auto cameras = db->ReadCameras();
+  for (int k = 0; k < 3; ++k) {
+    const colmap::pair_t id = colmap::ImagePairToPairId(2 * k + 1, 2 * k + 2);
+    const auto row = db->ReadMadsfmPair(id);
+    const auto geometry = db->ReadTwoViewGeometry(id);
+    ASSERT_TRUE(row.has_value() && geometry.has_value());
+    EXPECT_EQ(geometry->config, colmap::kUncalibrated);
+    ASSERT_TRUE(geometry->camera1.has_value() && geometry->camera2.has_value());
+    ASSERT_TRUE(geometry->E.has_value() && geometry->F.has_value() && geometry->qvec.has_value());
+    const colmap::Camera& stored = cameras[k];  // one camera per pair, ids 1..3
+    for (const colmap::Camera* c : {&*geometry->camera1, &*geometry->camera2}) {
+      EXPECT_EQ(c->camera_id, stored.camera_id);
+      EXPECT_EQ(c->intrinsics.model_id, stored.intrinsics.model_id);
+      EXPECT_EQ(c->intrinsics.width, stored.intrinsics.width);
+      EXPECT_EQ(c->intrinsics.params.size(), stored.intrinsics.params.size());
+      EXPECT_EQ(c->intrinsics.PrincipalX(), stored.intrinsics.PrincipalX());
+    }
+    EXPECT_DOUBLE_EQ(geometry->camera1->intrinsics.FocalX(), row->focal1);
+    EXPECT_DOUBLE_EQ(geometry->camera2->intrinsics.FocalX(), row->focal2);
+    EXPECT_LT(std::abs(geometry->camera1->intrinsics.FocalX() / p.pairs[k].focal0 - 1.0), 0.05);
+    // cam2_from_cam1 with unit translation, the rotation madsfm estimated.
+    const Eigen::Quaterniond q((*geometry->qvec)(0), (*geometry->qvec)(1), (*geometry->qvec)(2), (*geometry->qvec)(3));
+    EXPECT_LT((q.toRotationMatrix() - row->R).norm(), 1e-9);
+    EXPECT_NEAR(geometry->tvec->norm(), 1.0, 1e-12);
+    EXPECT_LT((*geometry->tvec - row->t.normalized()).norm(), 1e-9);
+    // ... and against the ground truth X2 = R X1 + t of the synthetic pair (image 1 = the smaller id): the stored
+    // qvec / tvec are cam2_from_cam1, not its inverse.
+    const Eigen::Matrix4d& T = *p.pairs[k].pair.T_0to1;
+    EXPECT_LT(RotationErrorDeg(q.toRotationMatrix(), T.topLeftCorner<3, 3>()), 2.0);
+    const Eigen::Vector3d t_true = T.topRightCorner<3, 1>().normalized();
+    EXPECT_GT(geometry->tvec->dot(t_true), std::cos(5.0 * M_PI / 180.0));
+  }
+  EXPECT_NE(testing::DumpTable(p.db, "sqlite_master").find("madsfm"), std::string::npos);
+  db.reset();
+  // Restore gives back the original rows (no geometries before) and the schema as it was.
+  colmap::Database::Open(p.db)->RestoreTwoViewGeometries();
+  EXPECT_EQ(testing::DumpTable(p.db, "sqlite_master"), schema_before);
+  EXPECT_EQ(colmap::Database::Open(p.db, true)->user_version(), 4020000);
+}
+
+// The whole estimator on a database of every COLMAP release (DatabaseBuilder's schemas, with the rigs and frames
+// 3.12+ have): every pair estimated, camera1 / camera2 only where the schema has them, the schema and user_version
+// untouched, and restore gives back the database as it was.
+class TwoViewEstimatorOnRelease : public ::testing::TestWithParam<colmap::ColmapRelease> {};
+
+TEST_P(TwoViewEstimatorOnRelease, EstimatesWritesAndRestores) {
+  const colmap::ColmapRelease release = GetParam();
+  const Project p = MakeProject("release_" + colmap::ColmapReleaseName(release), 3, false, release);
+  const std::string schema_before = testing::DumpTable(p.db, "sqlite_master");
+  const std::string tvg_before = testing::DumpTable(p.db, "two_view_geometries");
+  const std::string frames_before = release >= colmap::ColmapRelease::k3_12 ? testing::DumpTable(p.db, "frames") : "";
+  const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(Options(p));
+  EXPECT_EQ(s.num_estimated, 3);
+  {
+    auto db = colmap::Database::Open(p.db, true);
+    EXPECT_EQ(db->user_version(), colmap::ColmapReleaseUserVersion(release));
+    EXPECT_EQ(db->has_two_view_cameras(), release == colmap::ColmapRelease::kMain);
+    for (int k = 0; k < 3; ++k) {
+      const auto g = db->ReadTwoViewGeometry(colmap::ImagePairToPairId(2 * k + 1, 2 * k + 2));
+      ASSERT_TRUE(g.has_value());
+      EXPECT_TRUE(g->qvec.has_value() && g->E.has_value() && g->F.has_value());
+      EXPECT_EQ(g->camera1.has_value(), release == colmap::ColmapRelease::kMain);
+    }
+    if (release >= colmap::ColmapRelease::k3_12) EXPECT_EQ(testing::DumpTable(p.db, "frames"), frames_before);
+  }
+  colmap::Database::Open(p.db)->RestoreTwoViewGeometries();
+  EXPECT_EQ(testing::DumpTable(p.db, "sqlite_master"), schema_before);
+  EXPECT_EQ(testing::DumpTable(p.db, "two_view_geometries"), tvg_before);
+  EXPECT_EQ(colmap::Database::Open(p.db, true)->user_version(), colmap::ColmapReleaseUserVersion(release));
+}
+
+INSTANTIATE_TEST_SUITE_P(Releases, TwoViewEstimatorOnRelease, ::testing::ValuesIn(colmap::AllColmapReleases()),
+                         [](const ::testing::TestParamInfo<colmap::ColmapRelease>& info) {
+                           std::string name = "Colmap" + colmap::ColmapReleaseName(info.param);
+                           for (char& c : name) {
+                             if (c == '.') c = '_';
+                           }
+                           return name;
+                         });
 
 TEST(TwoViewEstimator, ResumesAndIsDeterministicAcrossThreadCounts) {
   const Project a = MakeProject("det_a", 5, true);
@@ -255,7 +350,8 @@ TEST(TwoViewEstimator, BadInputGivesClearErrorsAndLeavesTheDatabaseUnchanged) {
     RunTwoViewEstimatorImpl(Options(q));
     FAIL() << "expected an error";
   } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("camera 1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("camera_id 1 (used by 'pair0_a.png', 'pair0_b.png')"), std::string::npos)
+        << e.what();
     EXPECT_NE(std::string(e.what()).find("FOV"), std::string::npos) << e.what();
   }
   EXPECT_EQ(testing::DumpTable(q.db, "two_view_geometries"), q_before);

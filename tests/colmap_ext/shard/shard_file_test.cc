@@ -54,6 +54,16 @@ ShardResult SomeResult(pair_t pair_id, bool with_geometry, bool calibrated) {
     g.config = calibrated ? kCalibrated : kUncalibrated;
     g.F = Eigen::Matrix3d::Random();
     if (calibrated) g.E = Eigen::Matrix3d::Random();
+    if (!calibrated) {  // estimated focal of image 2 only (COLMAP main's camera2 column)
+      g.E = Eigen::Matrix3d::Random();
+      Camera camera;
+      camera.camera_id = static_cast<camera_t>(pair_id % 1000 + 1);
+      camera.intrinsics.model_id = 2;
+      camera.intrinsics.width = 640;
+      camera.intrinsics.height = 480;
+      camera.intrinsics.params = {611.25, 320, 240, -0.0125};
+      g.camera2 = camera;
+    }
     g.qvec = Eigen::Vector4d(0.5, 0.5, -0.5, 0.5);
     g.tvec = Eigen::Vector3d(1e-300, -0.0, 3.0);
     r.geometry = g;
@@ -97,6 +107,15 @@ void ExpectSameResult(const ShardResult& a, const ShardResult& b) {
     if (x.qvec) EXPECT_EQ(*x.qvec, *y.qvec);
     if (x.tvec) {
       for (int i = 0; i < 3; ++i) EXPECT_TRUE(SameBits((*x.tvec)(i), (*y.tvec)(i)));
+    }
+    ASSERT_EQ(x.camera1.has_value(), y.camera1.has_value());
+    ASSERT_EQ(x.camera2.has_value(), y.camera2.has_value());
+    if (x.camera2) {
+      EXPECT_EQ(x.camera2->camera_id, y.camera2->camera_id);
+      EXPECT_EQ(x.camera2->intrinsics.model_id, y.camera2->intrinsics.model_id);
+      EXPECT_EQ(x.camera2->intrinsics.width, y.camera2->intrinsics.width);
+      EXPECT_EQ(x.camera2->intrinsics.height, y.camera2->intrinsics.height);
+      EXPECT_EQ(x.camera2->intrinsics.params, y.camera2->intrinsics.params);
     }
   }
   const MadsfmPairRow &m = a.madsfm, &n = b.madsfm;
