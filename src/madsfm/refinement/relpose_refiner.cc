@@ -259,7 +259,8 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
     Eigen::Matrix<double, kBlock, 1> rb;
     int filled = 0;
     auto flush = [&]() {
-      JtJ.noalias() += Jb.topRows(filled).transpose() * Jb.topRows(filled);
+      // Lower triangle only (a symmetric rank-k update, half the products of a full J^T J).
+      JtJ.selfadjointView<Eigen::Lower>().rankUpdate(Jb.topRows(filled).transpose());
       Jtr.noalias() += Jb.topRows(filled).transpose() * rb.head(filled);
       filled = 0;
     };
@@ -273,6 +274,7 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
       if (++filled == kBlock) flush();
     }, options.reprojection_weight);
     if (filled > 0) flush();
+    JtJ.triangularView<Eigen::StrictlyUpper>() = JtJ.transpose();
     if (!options.refine_pose) {
       JtJ = (B.transpose() * JtJ * B).eval();
       Jtr = (B.transpose() * Jtr).eval();
