@@ -294,7 +294,7 @@ HybridEstimate Engine::Run() {
   double best_min_score = std::numeric_limits<double>::infinity();
   AffineDepthPose best_min;
   bool best_min_from_points = false;
-  bool lo_started = o_.num_lo_steps < 0;
+  bool lo_started = false;
   auto update_termination = [&]() {
     ComputeInliers(p_, best, w_, &inliers_);
     ratios = ComputeRatios(p_, inliers_, w_);
