@@ -208,6 +208,40 @@ TEST(PairDirectory, WriteThenReadRoundTrip) {
   ExpectSamePair(pair, ReadPairDirectory(tmp.File("custom")));
 }
 
+// True depth maps (gt_depth_*_file, written by `madsfm synth` for bench's depth errors) round-trip, and one of the
+// wrong aspect ratio is an error naming its file.
+TEST(PairDirectory, TrueDepthMapsRoundTripAndAreChecked) {
+  TempDir tmp;
+  PairData pair = MakePair(true, true);
+  DepthMap z;
+  z.width = 160;
+  z.height = 120;
+  z.data.assign(160 * 120, 3.25f);
+  z.data[5] = 0.0f;  // no surface (sky)
+  DepthMap z1;  // view 1 is 660 x 500
+  z1.width = 66;
+  z1.height = 50;
+  z1.data.assign(66 * 50, 7.5f);
+  pair.gt_depth0 = z;
+  pair.gt_depth1 = z1;
+  const std::string dir = tmp.File("gt");
+  WritePairDirectory(pair, dir);
+  const PairData back = ReadPairDirectory(dir);
+  ASSERT_TRUE(back.gt_depth0.has_value() && back.gt_depth1.has_value());
+  EXPECT_EQ(back.gt_depth0->width, 160);
+  EXPECT_EQ(back.gt_depth0->data, z.data);
+  EXPECT_EQ(back.gt_depth1->data, z1.data);
+  EXPECT_FALSE(MakePair(true, true).gt_depth0.has_value());  // optional: absent unless named in info.json
+  DepthMap wrong;
+  wrong.width = 100;
+  wrong.height = 20;
+  wrong.data.assign(100 * 20, 1.0f);
+  pair.gt_depth1 = wrong;
+  WritePairDirectory(pair, tmp.File("gt_wrong"));
+  const std::string error = ErrorOf([&] { ReadPairDirectory(tmp.File("gt_wrong")); });
+  EXPECT_NE(error.find("gt_depth_1.npy"), std::string::npos) << error;
+}
+
 // Rewrites info.json of a valid pair directory with `edit` applied and returns the read error.
 template <typename Edit>
 std::string ErrorAfterEdit(const std::string& dir, Edit edit) {
