@@ -9,6 +9,7 @@ set -uo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 SECONDS_PER_TARGET="${1:-60}"
 BUILD_DIR="${FUZZ_BUILD_DIR:-$ROOT/build-fuzz}"
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$ROOT}" CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"  # cache hits from any clone
 CRASH_DIR="$ROOT/tests/fuzz/crashes"
 ALL_FUZZERS="npy_fuzzer depth_file_fuzzer pair_directory_fuzzer sparse_model_fuzzer database_blob_fuzzer shard_file_fuzzer"
 FUZZERS="${FUZZERS:-$ALL_FUZZERS}"

@@ -10,7 +10,7 @@ bash "$ROOT/scripts/build.sh"
 
 if [ "${MADSFM_SKIP_ASAN:-0}" != "1" ]; then
   echo "== sanitizers: every unit and CLI test again under ASan + UBSan ($ASAN_DIR; the e2e runs of colmap excepted)"
-  export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$ROOT}"
+  export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$ROOT}" CCACHE_NOHASHDIR="${CCACHE_NOHASHDIR:-1}"
   cmake -S "$ROOT" -B "$ASAN_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMADSFM_SANITIZE=ON \
     -DMADSFM_BUILD_BENCHMARKS=OFF >/dev/null
   cmake --build "$ASAN_DIR" -j "$(nproc)"
