@@ -16,23 +16,26 @@
 
 namespace {
 
-const std::string& TemplatePath() {
-  static const std::string path = [] {
+// The bytes of a valid shard file with one assigned pair and no result, made once.
+const std::string& TemplateBytes() {
+  static const std::string bytes = [] {
     const std::string p = madsfm::fuzz::ScratchDir() + "/template.sqlite";
     madsfm::colmap::ShardInfo info;
     info.database_fingerprint = info.split_fingerprint = "00";
     info.options_fingerprint = "fuzz";
     madsfm::colmap::ShardFile::Create(p, info, {madsfm::colmap::ImagePairToPairId(1, 2)});
-    return p;
+    return madsfm::fuzz::ReadFile(p);
   }();
-  return path;
+  return bytes;
 }
 
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string path = madsfm::fuzz::ScratchDir() + "/input.sqlite";
-  std::filesystem::copy_file(TemplatePath(), path, std::filesystem::copy_options::overwrite_existing);
+  // Not std::filesystem::copy_file: its sendfile() fails with EINTR when one of libFuzzer's timer signals arrives.
+  const std::string& templ = TemplateBytes();
+  madsfm::fuzz::WriteFile(path, reinterpret_cast<const uint8_t*>(templ.data()), templ.size());
   size_t geometry_size = size >= 2 ? (data[0] | (data[1] << 8)) : 0xFFFF;
   const uint8_t* rest = data + (size >= 2 ? 2 : size);
   size_t left = size >= 2 ? size - 2 : 0;
