@@ -47,6 +47,9 @@ int RunMapper(int argc, char** argv) {
   parser.AddDefault("epipolar_threshold", &tv.estimator.epipolar_threshold, "Sampson inlier threshold, px.");
   parser.AddDefault("min_tri_angle", &o.seed.min_tri_angle_deg,
                     "Minimum median triangulation angle of the seed pair, deg (no pair: no seed).");
+  parser.AddDefault("min_depth_tri_angle", &o.seed.min_depth_tri_angle_deg,
+                    "Low parallax: a seed pair down to this angle, deg, when its depth priors agree with the pose\n"
+                    "(their corrected depths place the seed points; 0: off).");
   parser.AddDefault("min_prior_pairs", &o.focal.min_prior_pairs,
                     "A focal estimate becomes a prior when at least this many depth-backed pairs agree ...");
   parser.AddDefault("prior_agreement", &o.focal.prior_agreement, "... within this relative difference ...");

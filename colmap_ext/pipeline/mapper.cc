@@ -246,6 +246,8 @@ MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<vo
   const auto t2 = Clock::now();
   SeedModelOptions so = options.seed;
   so.database_path = options.two_view.database_path;
+  so.depth_path = options.two_view.depth_path;
+  so.depth_type = options.two_view.depth_type;
   so.output_path = (out / "seed").string();
   try {
     s.seed = RunSeedModelImpl(so);
@@ -255,6 +257,12 @@ MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<vo
                   "[3/4] seed_model: initial pair '%s' - '%s', %d inliers, %.1f deg, %d points (%.1f s)",
                   s.seed.name1.c_str(), s.seed.name2.c_str(), s.seed.num_inliers, s.seed.median_tri_angle_deg,
                   s.seed.num_points3D, s.seed_seconds);
+    if (s.seed.depth_backed) {
+      say(false, buf);
+      std::snprintf(buf, sizeof(buf),
+                    "      low parallax: %d of the points placed with the corrected depth priors (prior spread %.1f%%)",
+                    s.seed.num_fused_points, 100 * s.seed.prior_sigma);
+    }
     say(false, buf);
   } catch (const std::runtime_error& e) {
     s.seed_failure = e.what();
