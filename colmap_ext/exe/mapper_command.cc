@@ -58,6 +58,9 @@ int RunMapper(int argc, char** argv) {
                     "--Mapper.init_min_tri_angle of the relaxed unseeded run (COLMAP's default: 16).");
   parser.AddDefault("relaxed_init_min_num_inliers", &o.relaxed_init_min_num_inliers,
                     "--Mapper.init_min_num_inliers of the relaxed unseeded run (COLMAP's default: 100).");
+  parser.AddDefault("fix_focal_low_parallax", &o.fix_focal_low_parallax,
+                    "1: with a depth-backed (low-parallax) seed and every focal trusted, the seeded run keeps the\n"
+                    "focal lengths fixed (--Mapper.ba_refine_focal_length 0); 0: bundle adjustment refines them.");
   parser.AddDefault("fallback", &o.fallback,
                     "0: only the seeded colmap mapper run (unseeded when there is no seed), no fallbacks.");
   parser.AddDefault("colmap_path", &o.colmap_path, "The colmap executable.");

@@ -324,7 +324,15 @@ MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<vo
   auto done = [&]() { return best_registered() >= s.num_expected && best_registered() > 0; };
 
   const auto t3 = Clock::now();
-  if (s.seeded) run_attempt("seeded", options.two_view.database_path, so.output_path, {});
+  std::vector<std::string> seeded_extra;
+  if (s.seeded && s.seed.depth_backed && options.fix_focal_low_parallax && !s.focal.empty() &&
+      std::all_of(s.focal.begin(), s.focal.end(), [](const FocalChange& c) { return c.updated && c.trusted; }) &&
+      !FindArg(options.colmap_mapper_args, "--Mapper.ba_refine_focal_length", &value)) {
+    seeded_extra = {"--Mapper.ba_refine_focal_length", "0"};
+    s.focal_fixed = true;
+    say(false, "      low parallax and trusted focal estimates: the seeded run keeps the focal lengths fixed");
+  }
+  if (s.seeded) run_attempt("seeded", options.two_view.database_path, so.output_path, seeded_extra);
   if ((!s.seeded || options.fallback) && !done()) {
     if (s.seeded) {
       say(true, "madsfm mapper: the seeded run registered " + std::to_string(best_registered()) + " of " +

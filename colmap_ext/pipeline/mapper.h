@@ -36,6 +36,10 @@ struct MapperOptions {
   double relaxed_init_min_tri_angle = 4.0;
   int relaxed_init_min_num_inliers = 50;
   bool fallback = true;              // false: only the seeded run (or unseeded when there is no seed)
+  // Low parallax (a depth-backed seed) with every camera's focal trusted by focal_estimator: the seeded run keeps the
+  // focal lengths fixed (--Mapper.ba_refine_focal_length 0) unless colmap_mapper_args say otherwise. Bundle
+  // adjustment cannot tell focal length from depth at 1-2 deg of parallax and drifts away from the depth-backed value.
+  bool fix_focal_low_parallax = true;
 };
 
 struct MapperAttempt {
@@ -57,6 +61,7 @@ struct MapperSummary {
   SeedModelSummary seed;
   std::string seed_failure;  // why no seed was written (seeded == false)
   double seed_seconds = 0;
+  bool focal_fixed = false;  // the seeded run kept the focal lengths fixed (fix_focal_low_parallax)
   int num_expected = 0;      // images with at least one verified pair of >= Mapper.min_num_matches inliers
   std::vector<MapperAttempt> attempts;
   int kept = -1;             // index into attempts of the model in final_path
