@@ -28,7 +28,7 @@ struct LowParallaxProject {
   std::vector<SyntheticPair> pairs;
 };
 
-LowParallaxProject MakeProject(const std::string &name, uint64_t seed) {
+LowParallaxProject MakeProject(const std::string& name, uint64_t seed) {
   LowParallaxProject p;
   p.dir = (fs::temp_directory_path() / ("madsfm_seed_model_" + name + "_" + std::to_string(seed))).string();
   fs::remove_all(p.dir);
@@ -55,7 +55,7 @@ LowParallaxProject MakeProject(const std::string &name, uint64_t seed) {
   return p;
 }
 
-const LowParallaxProject &Project() {
+const LowParallaxProject& Project() {
   static const LowParallaxProject p = MakeProject("shared", 3);
   return p;
 }
@@ -63,10 +63,10 @@ const LowParallaxProject &Project() {
 // Median relative depth error in camera 1 of the seed's points against the
 // generator's truth, after the best common scale (the seed's gauge is
 // arbitrary). Keypoint i of a synthetic pair is its match i.
-double SeedDepthError(const LowParallaxProject &project, const SeedModelSummary &s, const std::string &model_dir) {
-  const SyntheticPair &pair = project.pairs.at((s.image_id1 - 1) / 2);
+double SeedDepthError(const LowParallaxProject& project, const SeedModelSummary& s, const std::string& model_dir) {
+  const SyntheticPair& pair = project.pairs.at((s.image_id1 - 1) / 2);
   const colmap::Reconstruction model = colmap::ReadReconstruction(model_dir);
-  const colmap::ModelImage &im1 = model.images.at(s.image_id1);
+  const colmap::ModelImage& im1 = model.images.at(s.image_id1);
   std::vector<double> est, truth;
   for (size_t i = 0; i < im1.point3D_ids.size(); ++i) {
     if (im1.point3D_ids[i] == colmap::kInvalidPoint3DId || !pair.is_inlier[i]) continue;
@@ -84,7 +84,7 @@ double SeedDepthError(const LowParallaxProject &project, const SeedModelSummary 
   return err[err.size() / 2];
 }
 
-SeedModelOptions Options(const std::string &name, const LowParallaxProject &project = Project()) {
+SeedModelOptions Options(const std::string& name, const LowParallaxProject& project = Project()) {
   SeedModelOptions o;
   o.database_path = project.db;
   o.output_path = project.dir + "/" + name;
@@ -95,7 +95,7 @@ TEST(SeedModel, LowParallaxHasNoSeedFromTriangulationAlone) {
   try {
     RunSeedModelImpl(Options("triangulation_only"));
     FAIL() << "expected no seed: every pair is below 4 deg";
-  } catch (const std::runtime_error &e) {
+  } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("median triangulation angle of at least 4 deg"), std::string::npos)
         << e.what();
   }
@@ -159,7 +159,7 @@ TEST(SeedModel, WithoutSidecarsNoPairIsDepthBacked) {
   try {
     RunSeedModelImpl(o);
     FAIL() << "expected no seed";
-  } catch (const std::runtime_error &e) {
+  } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("with depth priors that agree with the pose"), std::string::npos) << e.what();
   }
 }
