@@ -323,6 +323,10 @@ const std::vector<std::pair<const char*, ResultGetter>>& ResultFields() {
       {"num_depth_samples", [](R r) -> py::object { return py::int_(r.estimate.num_depth_samples); }},
       {"num_point_samples", [](R r) -> py::object { return py::int_(r.estimate.num_point_samples); }},
       {"epipolar_check_switched", [](R r) -> py::object { return py::bool_(r.estimate.epipolar_check_switched); }},
+      {"depth_observable", [](R r) -> py::object { return py::bool_(r.estimate.depth_observable); }},
+      {"sigma_scale", [](R r) -> py::object { return py::float_(r.estimate.sigma_scale); }},
+      {"sigma_shift0", [](R r) -> py::object { return py::float_(r.estimate.sigma_shift0); }},
+      {"sigma_shift1", [](R r) -> py::object { return py::float_(r.estimate.sigma_shift1); }},
       {"runtime_ms", [](R r) -> py::object { return py::float_(r.estimate.runtime_ms); }},
       {"notes", [](R r) -> py::object { return py::cast(r.notes); }},
   };
@@ -388,6 +392,10 @@ py::dict ResultState(const RelativePoseResult& r) {
   d["num_depth_samples"] = e.num_depth_samples;
   d["num_point_samples"] = e.num_point_samples;
   d["epipolar_check_switched"] = e.epipolar_check_switched;
+  d["depth_observable"] = e.depth_observable;
+  d["sigma_scale"] = e.sigma_scale;
+  d["sigma_shift0"] = e.sigma_shift0;
+  d["sigma_shift1"] = e.sigma_shift1;
   d["runtime_ms"] = e.runtime_ms;
   return d;
 }
@@ -431,6 +439,13 @@ RelativePoseResult ResultFromState(const py::dict& d) {
   e.num_depth_samples = get("num_depth_samples").cast<int>();
   e.num_point_samples = get("num_point_samples").cast<int>();
   e.epipolar_check_switched = get("epipolar_check_switched").cast<bool>();
+  // Added after the first version-1 pickles: absent there (unknown, i.e. not observable).
+  if (d.contains("depth_observable")) {
+    e.depth_observable = get("depth_observable").cast<bool>();
+    e.sigma_scale = get("sigma_scale").cast<double>();
+    e.sigma_shift0 = get("sigma_shift0").cast<double>();
+    e.sigma_shift1 = get("sigma_shift1").cast<double>();
+  }
   e.runtime_ms = get("runtime_ms").cast<double>();
   return r;
 }
