@@ -325,12 +325,14 @@ MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<vo
 
   const auto t3 = Clock::now();
   std::vector<std::string> seeded_extra;
-  if (s.seeded && s.seed.depth_backed && options.fix_focal_low_parallax && !s.focal.empty() &&
-      std::all_of(s.focal.begin(), s.focal.end(), [](const FocalChange& c) { return c.updated && c.trusted; }) &&
+  // One shared camera only: with one camera per image, bundle adjustment refining each focal did better on the
+  // per-image sideways walk (docs/benchmarks.md section 9) than fixing ten separately estimated values.
+  if (s.seeded && s.seed.depth_backed && options.fix_focal_low_parallax && s.focal.size() == 1 &&
+      s.focal[0].updated && s.focal[0].trusted &&
       !FindArg(options.colmap_mapper_args, "--Mapper.ba_refine_focal_length", &value)) {
     seeded_extra = {"--Mapper.ba_refine_focal_length", "0"};
     s.focal_fixed = true;
-    say(false, "      low parallax and trusted focal estimates: the seeded run keeps the focal lengths fixed");
+    say(false, "      low parallax and a trusted focal estimate of the one camera: the seeded run keeps it fixed");
   }
   if (s.seeded) run_attempt("seeded", options.two_view.database_path, so.output_path, seeded_extra);
   if ((!s.seeded || options.fallback) && !done()) {

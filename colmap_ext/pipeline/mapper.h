@@ -36,9 +36,10 @@ struct MapperOptions {
   double relaxed_init_min_tri_angle = 4.0;
   int relaxed_init_min_num_inliers = 50;
   bool fallback = true;              // false: only the seeded run (or unseeded when there is no seed)
-  // Low parallax (a depth-backed seed) with every camera's focal trusted by focal_estimator: the seeded run keeps the
-  // focal lengths fixed (--Mapper.ba_refine_focal_length 0) unless colmap_mapper_args say otherwise. Bundle
-  // adjustment cannot tell focal length from depth at 1-2 deg of parallax and drifts away from the depth-backed value.
+  // Low parallax (a depth-backed seed) with one camera shared by all images whose focal focal_estimator trusts: the
+  // seeded run keeps the focal length fixed (--Mapper.ba_refine_focal_length 0) unless colmap_mapper_args say
+  // otherwise. Bundle adjustment cannot tell a shared focal length from depth at 1-2 deg of parallax and drifts away
+  // from the depth-backed value (with one camera per image it did not, and refining them was better).
   bool fix_focal_low_parallax = true;
 };
 
