@@ -60,7 +60,8 @@ int RunMapper(int argc, char** argv) {
                     "--Mapper.init_min_num_inliers of the relaxed unseeded run (COLMAP's default: 100).");
   parser.AddDefault("fix_focal_low_parallax", &o.fix_focal_low_parallax,
                     "1: with a depth-backed (low-parallax) seed and one shared camera whose focal estimate is trusted,\n"
-                    "the seeded run keeps it fixed (--Mapper.ba_refine_focal_length 0); 0: bundle adjustment refines it.");
+                    "a seeded run whose bundle adjustment moved that focal beyond the estimate's uncertainty (>= 1%) is\n"
+                    "repeated with the focal fixed (--Mapper.ba_refine_focal_length 0); 0: never.");
   parser.AddDefault("fallback", &o.fallback,
                     "0: only the seeded colmap mapper run (unseeded when there is no seed), no fallbacks.");
   parser.AddDefault("colmap_path", &o.colmap_path, "The colmap executable.");

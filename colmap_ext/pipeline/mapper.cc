@@ -324,17 +324,37 @@ MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<vo
   auto done = [&]() { return best_registered() >= s.num_expected && best_registered() > 0; };
 
   const auto t3 = Clock::now();
-  std::vector<std::string> seeded_extra;
-  // One shared camera only: with one camera per image, bundle adjustment refining each focal did better on the
-  // per-image sideways walk (docs/benchmarks.md section 9) than fixing ten separately estimated values.
-  if (s.seeded && s.seed.depth_backed && options.fix_focal_low_parallax && s.focal.size() == 1 &&
-      s.focal[0].updated && s.focal[0].trusted &&
-      !FindArg(options.colmap_mapper_args, "--Mapper.ba_refine_focal_length", &value)) {
-    seeded_extra = {"--Mapper.ba_refine_focal_length", "0"};
-    s.focal_fixed = true;
-    say(false, "      low parallax and a trusted focal estimate of the one camera: the seeded run keeps it fixed");
+  if (s.seeded) {
+    const MapperAttempt seeded = run_attempt("seeded", options.two_view.database_path, so.output_path, {});
+    // Low parallax with one shared camera whose focal focal_estimator trusts: when bundle adjustment moved that
+    // focal by more than the aggregate's uncertainty allows (3 robust sigmas of the pairs' log focal over
+    // sqrt(pairs), at least 1%), it followed the focal-depth ambiguity of a small baseline, not evidence; run again
+    // with the focal fixed. (One camera only: with one camera per image, refining each focal did better on the
+    // per-image walk of docs/benchmarks.md section 9.)
+    if (s.seed.depth_backed && options.fix_focal_low_parallax && s.focal.size() == 1 && s.focal[0].updated &&
+        s.focal[0].trusted && !seeded.model_path.empty() &&
+        !FindArg(options.colmap_mapper_args, "--Mapper.ba_refine_focal_length", &value)) {
+      const colmap::Reconstruction model = colmap::ReadReconstruction(seeded.model_path);
+      const auto cam = model.cameras.find(s.focal[0].camera_id);
+      if (cam != model.cameras.end()) {
+        const colmap::CameraIntrinsics& k = cam->second.intrinsics;
+        const double f_ba = 0.5 * (k.FocalX() + k.FocalY());
+        s.focal_drift = std::abs(f_ba / s.focal[0].new_focal - 1.0);
+        const double allowed =
+            std::max(0.01, 3.0 * s.focal[0].spread / std::sqrt(std::max(1, s.focal[0].num_pairs)));
+        if (s.focal_drift > allowed) {
+          std::snprintf(buf, sizeof(buf),
+                        "      low parallax: bundle adjustment moved the focal from %.1f to %.1f px (%.1f%%, beyond "
+                        "the %.1f%% its %d depth-backed pairs support); running again with the focal fixed",
+                        s.focal[0].new_focal, f_ba, 100 * s.focal_drift, 100 * allowed, s.focal[0].num_pairs);
+          say(false, buf);
+          const MapperAttempt fixed = run_attempt("seeded_fixed_focal", options.two_view.database_path, so.output_path,
+                                                  {"--Mapper.ba_refine_focal_length", "0"});
+          s.focal_fixed = !fixed.model_path.empty() && fixed.num_registered >= seeded.num_registered;
+        }
+      }
+    }
   }
-  if (s.seeded) run_attempt("seeded", options.two_view.database_path, so.output_path, seeded_extra);
   if ((!s.seeded || options.fallback) && !done()) {
     if (s.seeded) {
       say(true, "madsfm mapper: the seeded run registered " + std::to_string(best_registered()) + " of " +
@@ -367,7 +387,12 @@ MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<vo
   for (size_t i = 0; i < s.attempts.size(); ++i) {
     const MapperAttempt& a = s.attempts[i];
     if (a.model_path.empty()) continue;
-    if (s.kept < 0 || a.num_registered > s.attempts[s.kept].num_registered) s.kept = static_cast<int>(i);
+    // The fixed-focal rerun replaces the seeded run it corrects when it registers as many images.
+    const bool correction = a.name == "seeded_fixed_focal" && s.focal_fixed;
+    if (s.kept < 0 || a.num_registered > s.attempts[s.kept].num_registered ||
+        (correction && a.num_registered == s.attempts[s.kept].num_registered)) {
+      s.kept = static_cast<int>(i);
+    }
   }
   if (s.kept < 0) {
     std::string logs;

@@ -2,7 +2,9 @@
 // two_view_estimator, focal_estimator, seed_model, then COLMAP's incremental mapper, with fallbacks so that the
 // result is never worse than plain `colmap mapper` in registered images:
 //
-//  1. seeded:           colmap mapper --input_path OUT/seed (when a pair passed seed_model's checks);
+//  1. seeded:           colmap mapper --input_path OUT/seed (when a pair passed seed_model's checks), repeated
+//                       with the focal fixed when bundle adjustment drifted on a low-parallax seed
+//                       (seeded_fixed_focal, see fix_focal_low_parallax);
 //  2. unseeded:         colmap mapper on madsfm's two-view geometries, COLMAP choosing the initial pair;
 //  3. unseeded_relaxed: the same with relaxed initial-pair constraints (--Mapper.init_min_tri_angle, ...), only
 //                       when attempt 2 produced no model;
@@ -36,10 +38,12 @@ struct MapperOptions {
   double relaxed_init_min_tri_angle = 4.0;
   int relaxed_init_min_num_inliers = 50;
   bool fallback = true;              // false: only the seeded run (or unseeded when there is no seed)
-  // Low parallax (a depth-backed seed) with one camera shared by all images whose focal focal_estimator trusts: the
-  // seeded run keeps the focal length fixed (--Mapper.ba_refine_focal_length 0) unless colmap_mapper_args say
-  // otherwise. Bundle adjustment cannot tell a shared focal length from depth at 1-2 deg of parallax and drifts away
-  // from the depth-backed value (with one camera per image it did not, and refining them was better).
+  // Low parallax (a depth-backed seed) with one camera shared by all images whose focal focal_estimator trusts:
+  // when the seeded run's bundle adjustment moves that focal by more than the estimate's uncertainty (3 robust sigmas
+  // of the pairs' estimates over sqrt(pairs), at least 1%), the seeded run is
+  // repeated with the focal fixed (--Mapper.ba_refine_focal_length 0; attempt "seeded_fixed_focal"), unless
+  // colmap_mapper_args set that option. At 1-2 deg of parallax bundle adjustment cannot tell a shared focal length
+  // from depth and can drift far from the depth-backed value.
   bool fix_focal_low_parallax = true;
 };
 
@@ -62,7 +66,8 @@ struct MapperSummary {
   SeedModelSummary seed;
   std::string seed_failure;  // why no seed was written (seeded == false)
   double seed_seconds = 0;
-  bool focal_fixed = false;  // the seeded run kept the focal lengths fixed (fix_focal_low_parallax)
+  double focal_drift = 0;    // |f after the seeded run's bundle adjustment / f of focal_estimator - 1| (one camera)
+  bool focal_fixed = false;  // the fixed-focal rerun was made and kept (fix_focal_low_parallax)
   int num_expected = 0;      // images with at least one verified pair of >= Mapper.min_num_matches inliers
   std::vector<MapperAttempt> attempts;
   int kept = -1;             // index into attempts of the model in final_path
