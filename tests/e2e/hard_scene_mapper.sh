@@ -9,7 +9,8 @@
 # to $TABLE (default WORK/../hard_scenes.md).
 # Usage: hard_scene_mapper.sh MADSFM_BINARY WORK_DIR NAME RENDER_ARGS...
 # Environment: SINGLE_CAMERA (0: one camera per image; default 1), OUTLIER_RATIO (add outlier matches; default none),
-#              MADSFM_ARGS (extra options of madsfm mapper), TABLE (file the row is appended to).
+#              MADSFM_ARGS (extra options of madsfm mapper), TABLE (file the row is appended to),
+#              EXPECT_ALL_REGISTERED (1: also assert that madsfm registers every image).
 set -euo pipefail
 MADSFM="$1"; WORK="$2"; NAME="$3"; shift 3
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -52,7 +53,7 @@ compare "$WORK/madsfm/0" "$WORK/madsfm.json"
 python3 - "$WORK/madsfm.json" "$WORK/colmap.json" "$NAME" "$c0" "$c1" "$m1" "${TABLE:-$(dirname "$WORK")/hard_scenes.md}" \
   "$(python3 -c 'import json,sys; print(len(json.load(open(sys.argv[1]))["images"]))' "$WORK/scene/ground_truth.json")" \
   <<'PY'
-import json, math, sys
+import json, math, os, sys
 m, c = (json.load(open(p)) for p in sys.argv[1:3])
 name, c0, c1, m1, table, n = sys.argv[3], float(sys.argv[4]), float(sys.argv[5]), float(sys.argv[6]), sys.argv[7], int(sys.argv[8])
 def g(d, k):
@@ -74,6 +75,8 @@ def req(cond, what):
     print(("ok:   " if cond else "FAIL: ") + what)
     ok &= cond
 req(m["num_registered"] > 0, "madsfm reconstructs")
+if os.environ.get("EXPECT_ALL_REGISTERED") == "1":
+    req(m["num_registered"] == n, f"madsfm registers all {n} images")
 req(m["num_registered"] >= c["num_registered"], "madsfm registers at least as many images as plain colmap")
 if c["num_registered"] > 0:
     margin = max(0.1, 0.1 * g(c, "median_rot_err_deg"))
