@@ -22,6 +22,8 @@ for seed in "${SEEDS[@]}"; do
   }
   run sideways_walk -- --num_images 8 --motion sideways --baseline_fraction 0.08 "${SIZE[@]}"
   run sideways_walk_short -- --num_images 8 --motion sideways --baseline_fraction 0.04 "${SIZE[@]}"
+  run sideways_walk_per_image SINGLE_CAMERA=0 -- --num_images 10 --motion sideways --baseline_fraction 0.08 \
+    --per_image_fov_min 80 --per_image_fov_max 100 "${SIZE[@]}"
   run handheld -- --num_images 5 --motion handheld --baseline_fraction 0.06 "${SIZE[@]}"
   run wide_angle_per_image SINGLE_CAMERA=0 -- --num_images 8 --per_image_fov_min 85 --per_image_fov_max 100 "${SIZE[@]}"
   run outliers_70 OUTLIER_RATIO=0.7 -- --num_images 8 "${SIZE[@]}"
