@@ -42,6 +42,8 @@ struct EstimatorFlags {
                        "inliers (0: off).");
     parser->AddDefault("sampson_cheirality", &options.sampson_cheirality,
                        "Sampson data behind a camera count as outliers (1) or not (0).");
+    parser->AddDefault("cheirality_min_parallax", &options.cheirality_min_parallax,
+                       "... where their rays are further apart than this many times the Sampson threshold's angle.");
     parser->AddDefault("num_lo_lsq_steps", &options.num_lo_lsq_steps,
                        "Least-squares fits with a shrinking threshold per local-optimisation round.");
     parser->AddDefault("lo_threshold_multiplier", &options.lo_threshold_multiplier,

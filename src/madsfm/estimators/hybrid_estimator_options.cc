@@ -30,6 +30,8 @@ void HybridEstimatorOptions::Check() const {
   Require(lo_lsq_sample_size >= 8, "lo_lsq_sample_size must be >= 8");
   Require(lo_starting_iterations >= 0, "lo_starting_iterations must be >= 0");
   Require(std::isfinite(max_shift_ratio) && max_shift_ratio >= 0, "max_shift_ratio must be >= 0");
+  Require(std::isfinite(cheirality_min_parallax) && cheirality_min_parallax >= 0,
+          "cheirality_min_parallax must be >= 0");
   Require(max_depth_sigma > 0, "max_depth_sigma must be > 0");
   Require(final_reprojection_weight >= 0 && final_reprojection_weight <= 1,
           "final_reprojection_weight must be in [0, 1]");

@@ -40,6 +40,12 @@ struct HybridEstimatorOptions {
   // Sampson data whose triangulated point lies behind a camera count as outliers (as the paper's code scores
   // them): the Sampson error alone cannot tell the twisted-pair and sign-flipped poses apart.
   bool sampson_cheirality = true;
+  // ... judged only where the two rays are further apart than this many times the angle of the Sampson threshold
+  // (epipolar_threshold / focal in pixels, at least ~0.06 deg): an inlier's rays may be that far off, so at smaller
+  // parallax the sign of its depth is noise (low-parallax pairs, far points). 0: the fixed 0.06 deg alone.
+  // 0.5 on the development sets (docs/benchmarks.md section 11); 1.0 gained more on low parallax but lost a
+  // planar pair of the point-only planar test.
+  double cheirality_min_parallax = 0.5;
 
   // RANSAC iterations: at least min_iterations, then adaptive (hybrid stopping criterion of
   // Camposeco et al. 2018 at `confidence`), at most max_iterations.
@@ -114,6 +120,11 @@ struct HybridEstimate {
   int num_lo = 0;
   int num_depth_samples = 0, num_point_samples = 0;  // minimal samples drawn per solver
   bool epipolar_check_switched = false;  // the point-only competitor won (epipolar_check_ratio)
+  // The best model of another basin found by the search within 1% of the best score, after the same final refinement
+  // (infinity: none), and
+  // whether it then scored lower than the search's best and replaced it.
+  double runner_up_score = std::numeric_limits<double>::infinity();
+  bool runner_up_won = false;
   // Standard deviations of the depth corrections from the final depth fit (shifts relative to the median prior of
   // their view, scale relative to itself; NaN when not estimated), and whether they are all below
   // options.max_depth_sigma: false means the priors do not determine scale and shifts (tiny baseline, pure

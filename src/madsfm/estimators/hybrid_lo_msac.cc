@@ -47,6 +47,15 @@ double MedianPrior(const std::vector<double>& d, const std::vector<int>& valid) 
   return v[v.size() / 2] > 0.0 ? v[v.size() / 2] : 1.0;
 }
 
+// Whether two models lie in different basins of the score: rotations more than 1 deg apart, or translation directions
+// more than 5 deg apart.
+bool DistinctModels(const AffineDepthPose& a, const AffineDepthPose& b) {
+  const double cos_r = std::clamp(0.5 * ((a.R.transpose() * b.R).trace() - 1.0), -1.0, 1.0);
+  const double na = a.t.norm(), nb = b.t.norm();
+  const double cos_t = na > 0.0 && nb > 0.0 ? std::clamp(a.t.dot(b.t) / (na * nb), -1.0, 1.0) : 1.0;
+  return cos_r < std::cos(1.0 * M_PI / 180.0) || cos_t < std::cos(5.0 * M_PI / 180.0);
+}
+
 class Engine {
  public:
   Engine(const RelposeProblem& p, const HybridEstimatorOptions& o)
@@ -291,8 +300,13 @@ HybridEstimate Engine::Run() {
   // As in RansacLib: a minimal model that beats the best MINIMAL model so far is locally optimised, and the result
   // competes with the best optimised model. (Comparing new minimal models with the optimised score instead would
   // almost never optimise a model from another basin.) No local optimisation in the first lo_starting_iterations.
+  // As in PoseLib, a minimal model is also a candidate when it has more inliers than any minimal model before
+  // (even with a worse score): far-point scenes have two basins of nearly equal score, and a model of the right one
+  // may count more inliers while its noisy minimal fit scores worse.
   double best_min_score = std::numeric_limits<double>::infinity();
+  int best_min_count = 0;
   AffineDepthPose best_min;
+  double best_min_model_score = std::numeric_limits<double>::infinity();  // score of best_min itself
   bool best_min_from_points = false;
   bool lo_started = false;
   auto update_termination = [&]() {
@@ -303,20 +317,35 @@ HybridEstimate Engine::Run() {
     const double qd = depth_ok ? (point_ok ? FirstSolverProbability(P_d, P_p) : 1.0) : 0.0;
     required = RequiredIterations({qd, 1.0 - qd}, {P_d, P_p}, o_.confidence, o_.max_iterations);
   };
-  auto optimize_and_compete = [&](AffineDepthPose m, double score, bool from_points) {
-    LocalOptimize(&m, &score, from_points);
+  // The best model of another basin (rotation or translation direction apart, see DistinctModels): two basins can
+  // score within rounding of each other after local optimisation (far-point scenes with a bas-relief-like
+  // ambiguity), and only the final refinement decides between them; see the end of Run().
+  AffineDepthPose runner_up;
+  double runner_up_score = std::numeric_limits<double>::infinity();
+  auto compete = [&](const AffineDepthPose& m, double score) {
     if (score < best_score) {
+      if (have_best && DistinctModels(best, m)) {
+        runner_up = best;
+        runner_up_score = best_score;
+      }
       best_score = score;
       best = m;
       have_best = true;
+    } else if (score < runner_up_score && DistinctModels(best, m)) {
+      runner_up = m;
+      runner_up_score = score;
     }
+  };
+  auto optimize_and_compete = [&](AffineDepthPose m, double score, bool from_points) {
+    LocalOptimize(&m, &score, from_points);
+    compete(m, score);
   };
   int it = 0;
   for (; it < o_.max_iterations; ++it) {
     if (it >= o_.min_iterations && it >= required) break;
     if (!lo_started && it >= o_.lo_starting_iterations && have_best) {
       lo_started = true;
-      optimize_and_compete(best_min, best_min_score, best_min_from_points);
+      optimize_and_compete(best_min, best_min_model_score, best_min_from_points);
       update_termination();
     }
     const double P_depth = AllInlierProbability(ratios.both_depths, k_depth);
@@ -333,44 +362,58 @@ HybridEstimate Engine::Run() {
     }
     solvers_.Solve(kind, sample, &models);
     int local_best = -1;
-    double local_score = best_min_score;
+    double local_score = 0.0;
     for (int k = 0; k < static_cast<int>(models.size()); ++k) {
-      const double s = ScoreModel(p_, models[k], w_, local_score);
-      if (s < local_score) {
-        local_score = s;
-        local_best = k;
-      }
+      int count = 0;
+      const double sc = ScoreModelCounting(p_, models[k], w_, best_min_score, best_min_count, &count);
+      const bool better = sc < best_min_score, more = count > best_min_count;
+      if (!better && !more) continue;
+      if (better) best_min_score = sc;
+      if (more) best_min_count = count;
+      local_best = k;
+      local_score = sc;
     }
     if (local_best < 0) continue;
-    best_min_score = local_score;
     best_min = models[local_best];
+    best_min_model_score = local_score;
     best_min_from_points = kind == MinimalSolverKind::kPoint;
     if (lo_started) {
-      optimize_and_compete(best_min, best_min_score, best_min_from_points);
-    } else if (best_min_score < best_score) {
-      best_score = best_min_score;
-      best = best_min;
-      have_best = true;
+      optimize_and_compete(best_min, best_min_model_score, best_min_from_points);
+    } else {
+      compete(best_min, best_min_model_score);
     }
     update_termination();
   }
-  if (!lo_started && have_best) optimize_and_compete(best_min, best_min_score, best_min_from_points);
+  if (!lo_started && have_best) optimize_and_compete(best_min, best_min_model_score, best_min_from_points);
   result.iterations = it;
 
   if (have_best) {
-    ComputeInliers(p_, best, w_, &inliers_);
-    if (o_.final_refinement) {
-      // Refine on the final inliers, re-select the inliers and refine once more; keep the result
-      // only if it improves the MSAC score.
+    // Refine on the final inliers, re-select the inliers and refine once more; keep the result only if it improves
+    // the MSAC score. The runner-up of another basin gets the same, and replaces the best if it then scores lower.
+    auto final_refine = [&](AffineDepthPose* m, double* score) {
+      ComputeInliers(p_, *m, w_, &inliers_);
+      if (!o_.final_refinement) return;
       for (int round = 0; round < 2; ++round) {
-        AffineDepthPose refined = best;
+        AffineDepthPose refined = *m;
         if (!Refine(&refined, inliers_, o_.final_max_lm_iterations)) break;
         const double s = ScoreModel(p_, refined, w_);
-        if (!(s <= best_score)) break;
-        best = refined;
-        best_score = s;
-        ComputeInliers(p_, best, w_, &inliers_);
+        if (!(s <= *score)) break;
+        *m = refined;
+        *score = s;
+        ComputeInliers(p_, *m, w_, &inliers_);
       }
+    };
+    // Only a near tie (within 1% of the score) is worth the second refinement.
+    if (o_.final_refinement && runner_up_score <= 1.01 * best_score) {
+      final_refine(&runner_up, &runner_up_score);
+      result.runner_up_score = runner_up_score;
+    }
+    final_refine(&best, &best_score);
+    if (result.runner_up_score < best_score) {
+      std::swap(best, runner_up);
+      std::swap(best_score, runner_up_score);
+      ComputeInliers(p_, best, w_, &inliers_);
+      result.runner_up_won = true;
     }
     if (o_.final_refinement && o_.final_reprojection_weight < 1.0 && w_.use_reprojection && w_.use_sampson &&
         !inliers_.sampson.empty()) {

@@ -7,11 +7,12 @@
 
 namespace madsfm {
 
-ModelResiduals::ModelResiduals(const AffineDepthPose& m, double pixel_scale0, double pixel_scale1)
+ModelResiduals::ModelResiduals(const AffineDepthPose& m, double pixel_scale0, double pixel_scale1,
+                               double parallel_sin2)
     : R_(m.R), Rt_(m.R.transpose()), t_(m.t), tt_(-m.R.transpose() * m.t), shift0_(m.shift0), shift1_(m.shift1),
       scale_(m.scale), f0_(m.f0), f1_(m.f1), inv_f0_(1.0 / m.f0), inv_f1_(1.0 / m.f1),
       pixel_scale0_sq_(pixel_scale0 * pixel_scale0), pixel_scale1_sq_(pixel_scale1 * pixel_scale1),
-      pixel_scale01_(pixel_scale0 * pixel_scale1) {
+      pixel_scale01_(pixel_scale0 * pixel_scale1), parallel_sin2_(parallel_sin2) {
   // F in solver units: F = K1^-T [t]x R K0^-1 with K = diag(f, f, 1).
   const Eigen::Matrix3d E = CrossProductMatrix(m.t) * m.R;
   const Eigen::Vector3d k0(inv_f0_, inv_f0_, 1.0), k1(inv_f1_, inv_f1_, 1.0);
@@ -30,11 +31,20 @@ MsacWeights MsacWeights::FromOptions(const HybridEstimatorOptions& o) {
   w.sampson_weight = o.scoring == ScoringMode::kHybrid ? 2.0 * o.sampson_weight * w.reproj_sq / w.sampson_sq : 1.0;
   w.use_shift = o.estimate_shift;
   w.cheirality = o.sampson_cheirality;
+  w.cheirality_min_parallax = o.cheirality_min_parallax;
   return w;
 }
 
+double MsacWeights::ParallelSin2(double focal_px0, double focal_px1) const {
+  const double f = std::min(focal_px0, focal_px1);
+  if (!(f > 0.0) || !(cheirality_min_parallax > 0.0)) return ModelResiduals::kParallelSin2;
+  const double angle = cheirality_min_parallax * std::sqrt(sampson_sq) / f;  // sin(x) ~ x: a few mrad at most
+  return std::max(ModelResiduals::kParallelSin2, angle * angle);
+}
+
 double ScoreModel(const RelposeProblem& p, const AffineDepthPose& model, const MsacWeights& w, double stop_above) {
-  const ModelResiduals res(model, p.pixel_scale0, p.pixel_scale1);
+  const ModelResiduals res(model, p.pixel_scale0, p.pixel_scale1,
+                           w.ParallelSin2(model.f0 * p.pixel_scale0, model.f1 * p.pixel_scale1));
   const int n = p.size();
   double score = 0.0;
   const double* d0 = p.d0.data();
@@ -54,8 +64,43 @@ double ScoreModel(const RelposeProblem& p, const AffineDepthPose& model, const M
   return score;
 }
 
+double ScoreModelCounting(const RelposeProblem& p, const AffineDepthPose& model, const MsacWeights& w, double stop_above,
+                          int min_count, int* count) {
+  const ModelResiduals res(model, p.pixel_scale0, p.pixel_scale1,
+                           w.ParallelSin2(model.f0 * p.pixel_scale0, model.f1 * p.pixel_scale1));
+  const int n = p.size();
+  const int per_point = (w.use_reprojection ? 2 : 0) + (w.use_sampson ? 1 : 0);
+  double score = 0.0;
+  int c = 0;
+  const double* d0 = p.d0.data();
+  const double* d1 = p.d1.data();
+  for (int i = 0; i < n; ++i) {
+    if (w.use_reprojection) {
+      if (d0[i] == d0[i]) {
+        const double e = res.Reprojection01(p.x0[i], p.x1[i], d0[i]);
+        c += e < w.reproj_sq;
+        score += std::min(e, w.reproj_sq);
+      }
+      if (d1[i] == d1[i]) {
+        const double e = res.Reprojection10(p.x0[i], p.x1[i], d1[i]);
+        c += e < w.reproj_sq;
+        score += std::min(e, w.reproj_sq);
+      }
+    }
+    if (w.use_sampson) {
+      const double e = w.cheirality ? res.SampsonCheiral(p.x0[i], p.x1[i]) : res.Sampson(p.x0[i], p.x1[i]);
+      c += e < w.sampson_sq;
+      score += w.sampson_weight * std::min(e, w.sampson_sq);
+    }
+    if ((i & 31) == 31 && score > stop_above && c + per_point * (n - 1 - i) <= min_count) break;
+  }
+  *count = c;
+  return score;
+}
+
 void ComputeInliers(const RelposeProblem& p, const AffineDepthPose& model, const MsacWeights& w, InlierSets* in) {
-  const ModelResiduals res(model, p.pixel_scale0, p.pixel_scale1);
+  const ModelResiduals res(model, p.pixel_scale0, p.pixel_scale1,
+                           w.ParallelSin2(model.f0 * p.pixel_scale0, model.f1 * p.pixel_scale1));
   in->reproj0.clear();
   in->reproj1.clear();
   in->sampson.clear();

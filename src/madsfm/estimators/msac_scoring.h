@@ -18,7 +18,9 @@ class ModelResiduals {
  public:
   static constexpr double kInvalidError = std::numeric_limits<double>::max();
 
-  ModelResiduals(const AffineDepthPose& model, double pixel_scale0, double pixel_scale1);
+  // parallel_sin2: SampsonCheiral does not judge rays whose squared sine of their angle is at most this.
+  ModelResiduals(const AffineDepthPose& model, double pixel_scale0, double pixel_scale1,
+                 double parallel_sin2 = kParallelSin2);
 
   // Lift x0 with the corrected prior d0 and reproject into view 1.
   double Reprojection01(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1, double d0) const {
@@ -43,7 +45,7 @@ class ModelResiduals {
   }
 
   // Squared Sampson error; kInvalidError when the triangulated point lies behind either camera and its rays are
-  // not nearly parallel (sin^2 of the angle between them above kParallelSin2): the Sampson error cannot tell
+  // not nearly parallel (sin^2 of the angle between them above parallel_sin2): the Sampson error cannot tell
   // the four decompositions of an essential matrix apart, cheirality can. Nearly parallel rays (points near
   // infinity, whose depth sign is noise) are not judged.
   double SampsonCheiral(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1) const {
@@ -53,10 +55,10 @@ class ModelResiduals {
     const double e = v1.dot(t_), g = Rv0.dot(t_);
     // lambda1 v1 - lambda0 R v0 = t in the least-squares sense; both numerators carry the sign (det >= 0).
     const double num1 = c * e - b * g, num0 = b * e - a * g;
-    if ((num1 < 0.0 || num0 < 0.0) && a * c - b * b > kParallelSin2 * a * c) return kInvalidError;
+    if ((num1 < 0.0 || num0 < 0.0) && a * c - b * b > parallel_sin2_ * a * c) return kInvalidError;
     return Sampson(x0, x1);
   }
-  static constexpr double kParallelSin2 = 1e-6;  // rays within ~0.06 deg of each other
+  static constexpr double kParallelSin2 = 1e-6;  // rays within ~0.06 deg of each other (the least judged)
 
   // Squared Sampson error.
   double Sampson(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1) const {
@@ -73,6 +75,7 @@ class ModelResiduals {
   Eigen::Vector3d t_, tt_;
   double shift0_, shift1_, scale_, f0_, f1_, inv_f0_, inv_f1_;
   double pixel_scale0_sq_, pixel_scale1_sq_, pixel_scale01_;
+  double parallel_sin2_;
 };
 
 // The truncated thresholds and weights of the hybrid MSAC score.
@@ -84,6 +87,11 @@ struct MsacWeights {
   bool use_sampson = true;
   bool use_shift = true;
   bool cheirality = true;  // Sampson data: points behind a camera are outliers (SampsonCheiral)
+  double cheirality_min_parallax = 0.5;  // ... judged beyond this many Sampson-threshold angles of parallax
+
+  // sin^2 of the parallax below which SampsonCheiral does not judge, for a model's focal lengths in pixels
+  // (model f times the problem's pixel scale): (cheirality_min_parallax tau_s / f)^2, at least kParallelSin2.
+  double ParallelSin2(double focal_px0, double focal_px1) const;
 
   static MsacWeights FromOptions(const HybridEstimatorOptions& options);
   // The same weights with both squared thresholds multiplied by `factor` (the relaxed thresholds of the local
@@ -101,6 +109,12 @@ struct MsacWeights {
 // and returns a value > stop_above as soon as the partial sum exceeds it.
 double ScoreModel(const RelposeProblem& problem, const AffineDepthPose& model, const MsacWeights& weights,
                   double stop_above = std::numeric_limits<double>::infinity());
+
+// The same score, also counting the inliers (errors below the thresholds, all data types together) into *count.
+// Stops early (with a partial count) only when the partial score exceeds stop_above and the count can no longer
+// exceed min_count: then neither the score nor the count beats them.
+double ScoreModelCounting(const RelposeProblem& problem, const AffineDepthPose& model, const MsacWeights& weights,
+                          double stop_above, int min_count, int* count);
 
 // Inlier sets of the three data types (error below the squared threshold). Masks are resized to
 // problem.size(); a type that is not scored gets an empty set.
