@@ -9,6 +9,7 @@
 #include "colmap_ext/exe/option_parser.h"
 #include "colmap_ext/synthetic/synthetic_project.h"
 #include "madsfm/io/pair_directory.h"
+#include "madsfm/synthetic/pair_set.h"
 #include "madsfm/synthetic/two_view_scene.h"
 
 namespace madsfm {
@@ -29,23 +30,7 @@ int RunSynth(int argc, char** argv) {
   if (!parser.Parse(argc, argv, 2)) return EXIT_FAILURE;
   if (parser.help_requested()) return EXIT_SUCCESS;
   try {
-    const auto options = SyntheticPairPreset(preset);
-    if (!options) throw std::invalid_argument("unknown --preset '" + preset + "'");
-    if (num_pairs < 1) throw std::invalid_argument("--num_pairs must be >= 1");
-    std::filesystem::create_directories(output_path);
-    const std::string list_path = (std::filesystem::path(output_path) / "pairs.txt").string();
-    std::ofstream list(list_path);
-    if (!list) throw std::runtime_error("cannot write '" + list_path + "'");
-    const auto set = GenerateTwoViewSet(*options, num_pairs, static_cast<uint64_t>(seed));
-    for (int i = 0; i < num_pairs; ++i) {
-      char name[256];
-      std::snprintf(name, sizeof(name), "%s_%04d", preset.c_str(), i);
-      PairData pair = set[i].pair;
-      pair.gt_depth0 = set[i].true_depth_map0;  // for bench's depth-correction errors
-      pair.gt_depth1 = set[i].true_depth_map1;
-      WritePairDirectory(pair, (std::filesystem::path(output_path) / name).string());
-      list << name << "\n";
-    }
+    const std::string list_path = WriteSyntheticPairSet(preset, num_pairs, static_cast<uint64_t>(seed), output_path);
     std::fprintf(stderr, "synth: wrote %d pairs and %s\n", num_pairs, list_path.c_str());
     return EXIT_SUCCESS;
   } catch (const std::exception& e) {
