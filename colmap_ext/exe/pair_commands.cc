@@ -81,6 +81,11 @@ nlohmann::json ResultJson(const PairResult& r) {
     j["inliers"] = {{"reproj_0to1", r.num_inliers_reproj0},
                     {"reproj_1to0", r.num_inliers_reproj1},
                     {"sampson", r.num_inliers_sampson}};
+    // NaN sigmas (not fitted) are written as null, as every non-finite number.
+    j["depth_observable"] = r.depth_observable;
+    j["sigma_scale"] = r.sigma_scale;
+    j["sigma_shift0"] = r.sigma_shift0;
+    j["sigma_shift1"] = r.sigma_shift1;
   }
   j["iterations"] = r.iterations;
   j["runtime_ms"] = r.runtime_ms;

@@ -64,6 +64,8 @@ def result_json(path, method, result, pair):
         j.update(scale=result.scale, shift0=result.shift0, shift1=result.shift1, f0=result.f0, f1=result.f1)
         j["inliers"] = {"reproj_0to1": result.num_inliers_reproj0, "reproj_1to0": result.num_inliers_reproj1,
                         "sampson": result.num_inliers_sampson}
+        j.update(depth_observable=result.depth_observable, sigma_scale=result.sigma_scale,
+                 sigma_shift0=result.sigma_shift0, sigma_shift1=result.sigma_shift1)
     j["iterations"] = result.iterations
     j["runtime_ms"] = result.runtime_ms
     j.update(_errors(result, pair, result.camera_mode))

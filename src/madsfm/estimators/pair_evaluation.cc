@@ -161,6 +161,10 @@ PairResult EvaluatePair(const PairData& pair, CameraMode mode, const std::string
     r.num_inliers_reproj0 = est.num_inliers_reproj0;
     r.num_inliers_reproj1 = est.num_inliers_reproj1;
     r.num_inliers_sampson = est.num_inliers_sampson;
+    r.depth_observable = est.depth_observable;
+    r.sigma_scale = est.sigma_scale;
+    r.sigma_shift0 = est.sigma_shift0;
+    r.sigma_shift1 = est.sigma_shift1;
   }
 
   if (pair.T_0to1) {

@@ -2,6 +2,7 @@
 // `madsfm pair` and `madsfm bench`.
 #pragma once
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,6 +31,11 @@ struct PairResult {
   int num_matches = 0;
   int num_with_depth = 0;  // matches with a valid prior in both views
   int num_inliers_reproj0 = 0, num_inliers_reproj1 = 0, num_inliers_sampson = 0;
+  // Whether the pair determines the depth corrections, and their standard deviations (HybridEstimate).
+  bool depth_observable = false;
+  double sigma_scale = std::numeric_limits<double>::quiet_NaN();
+  double sigma_shift0 = std::numeric_limits<double>::quiet_NaN();
+  double sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
   int iterations = 0;
   double runtime_ms = 0.0;  // estimator only (not file reading)
   // Errors against T_0to1 / K when the pair has a ground truth; failures count as 180 deg and focal error 1.

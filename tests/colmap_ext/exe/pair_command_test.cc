@@ -52,6 +52,24 @@ TEST(PairCommand, PrintsTheEstimateAndItsErrorsAsJson) {
   EXPECT_LT(j["rot_err_deg"].get<double>(), 5.0);
   EXPECT_LT(j["focal_err"].get<double>(), 0.1);
   EXPECT_GT(j["inliers"]["sampson"].get<int>(), 100);
+  // The depth corrections' uncertainty: finite sigmas, and observable exactly when all are within the default 0.1.
+  bool within = true;
+  for (const char* key : {"sigma_scale", "sigma_shift0", "sigma_shift1"}) {
+    ASSERT_TRUE(j[key].is_number()) << key;
+    EXPECT_GE(j[key].get<double>(), 0.0);
+    within = within && j[key].get<double>() <= 0.1;
+  }
+  EXPECT_EQ(j["depth_observable"].get<bool>(), within);
+}
+
+TEST(PairCommand, PointMethodReportsNoDepthCorrections) {
+  const CliRun r = RunCli("pair --pair_path " + std::string(MADSFM_EXAMPLE_PAIRS_DIR) + "/0_scannet --camera_mode calibrated");
+  ASSERT_EQ(r.status, 0) << r.out;
+  const size_t start = r.out.find('{');  // after the notes stderr printed (RunCli merges both streams)
+  ASSERT_NE(start, std::string::npos) << r.out;
+  const auto j = nlohmann::json::parse(r.out.substr(start, r.out.rfind('}') - start + 1));
+  EXPECT_FALSE(j["depth_observable"].get<bool>());
+  EXPECT_TRUE(j["sigma_scale"].is_null());
 }
 
 TEST(PairCommand, PairWithoutDepthRunsThePointMethodAndSaysSo) {
