@@ -98,7 +98,9 @@ std::string OptionParser::Help() const {
     os << "  --" << o.name << " " << o.type;
     if (o.required) os << "  (required)";
     else if (!o.default_text.empty()) os << "  (default: " << o.default_text << ")";
-    os << "\n      " << o.help << "\n";
+    std::string help = o.help;  // continuation lines indented like the first
+    for (size_t i = help.find('\n'); i != std::string::npos; i = help.find('\n', i + 7)) help.insert(i + 1, "      ");
+    os << "\n      " << help << "\n";
   }
   return os.str();
 }
