@@ -753,7 +753,14 @@ void Database::CreateMadsfmTables() {
            "R BLOB NOT NULL, t BLOB NOT NULL, scale REAL, shift1 REAL, shift2 REAL, focal1 REAL, focal2 REAL, "
            "camera_mode INTEGER NOT NULL, method INTEGER NOT NULL, num_inliers_reproj1 INTEGER NOT NULL, "
            "num_inliers_reproj2 INTEGER NOT NULL, num_inliers_sampson INTEGER NOT NULL, "
-           "num_inliers INTEGER NOT NULL, score REAL, options_fingerprint TEXT, status INTEGER NOT NULL)");
+           "num_inliers INTEGER NOT NULL, score REAL, options_fingerprint TEXT, status INTEGER NOT NULL, "
+           "depth_observable INTEGER, sigma_scale REAL, sigma_shift1 REAL, sigma_shift2 REAL)");
+  // Tables written by madsfm versions before these columns: add them (NULL: unknown).
+  const std::set<std::string> columns = TableColumns(db_, path_, kMadsfmPairsTable);
+  for (const char* c : {"depth_observable INTEGER", "sigma_scale REAL", "sigma_shift1 REAL", "sigma_shift2 REAL"}) {
+    const std::string name = std::string(c).substr(0, std::string(c).find(' '));
+    if (!columns.count(name)) Exec(db_, path_, std::string("ALTER TABLE ") + kMadsfmPairsTable + " ADD COLUMN " + c);
+  }
   transaction.Commit();
 }
 
@@ -766,7 +773,8 @@ void Database::WriteMadsfmPair(const MadsfmPairRow& row) {
                  std::string("INSERT OR REPLACE INTO ") + kMadsfmPairsTable +
                      " (pair_id, image_id1, image_id2, R, t, scale, shift1, shift2, focal1, focal2, camera_mode, "
                      "method, num_inliers_reproj1, num_inliers_reproj2, num_inliers_sampson, num_inliers, score, "
-                     "options_fingerprint, status) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                     "options_fingerprint, status, depth_observable, sigma_scale, sigma_shift1, sigma_shift2) VALUES "
+                     "(?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
   stmt.BindInt64(1, static_cast<int64_t>(row.pair_id));
   stmt.BindInt64(2, id1);
   stmt.BindInt64(3, id2);
@@ -785,6 +793,11 @@ void Database::WriteMadsfmPair(const MadsfmPairRow& row) {
   stmt.BindDouble(17, row.score);
   stmt.BindText(18, row.options_fingerprint);
   stmt.BindInt64(19, row.status);
+  if (row.depth_observable < 0) stmt.BindNull(20);
+  else stmt.BindInt64(20, row.depth_observable);
+  stmt.BindDouble(21, row.sigma_scale);
+  stmt.BindDouble(22, row.sigma_shift1);
+  stmt.BindDouble(23, row.sigma_shift2);
   stmt.Run();
   transaction.Commit();
 }
@@ -794,6 +807,14 @@ namespace {
 constexpr const char* kMadsfmPairColumns =
     "pair_id, R, t, scale, shift1, shift2, focal1, focal2, camera_mode, method, num_inliers_reproj1, "
     "num_inliers_reproj2, num_inliers_sampson, num_inliers, score, options_fingerprint, status";
+// The columns added later, or NULLs in their place for a table written before them (a read-only database is not
+// migrated).
+std::string MadsfmPairSelect(sqlite3* db, const std::string& path) {
+  const bool has = TableColumns(db, path, kMadsfmPairsTable).count("depth_observable") > 0;
+  return std::string("SELECT ") + kMadsfmPairColumns +
+         (has ? ", depth_observable, sigma_scale, sigma_shift1, sigma_shift2" : ", NULL, NULL, NULL, NULL") +
+         " FROM " + kMadsfmPairsTable;
+}
 
 MadsfmPairRow ReadMadsfmPairRow(const Statement& stmt, const Database& db) {
   const std::string& path = db.path();
@@ -822,6 +843,10 @@ MadsfmPairRow ReadMadsfmPairRow(const Statement& stmt, const Database& db) {
   row.score = stmt.Double(14);
   row.options_fingerprint = stmt.Text(15);
   row.status = static_cast<int>(stmt.Int64(16));
+  row.depth_observable = stmt.IsNull(17) ? -1 : static_cast<int>(stmt.Int64(17));
+  row.sigma_scale = stmt.Double(18);
+  row.sigma_shift1 = stmt.Double(19);
+  row.sigma_shift2 = stmt.Double(20);
   return row;
 }
 
@@ -829,8 +854,7 @@ MadsfmPairRow ReadMadsfmPairRow(const Statement& stmt, const Database& db) {
 
 std::optional<MadsfmPairRow> Database::ReadMadsfmPair(pair_t pair_id) const {
   if (!TableExists(db_, path_, kMadsfmPairsTable)) return std::nullopt;
-  Statement stmt(db_, path_,
-                 std::string("SELECT ") + kMadsfmPairColumns + " FROM " + kMadsfmPairsTable + " WHERE pair_id = ?");
+  Statement stmt(db_, path_, MadsfmPairSelect(db_, path_) + " WHERE pair_id = ?");
   stmt.BindInt64(1, static_cast<int64_t>(pair_id));
   if (!stmt.Step()) return std::nullopt;
   return ReadMadsfmPairRow(stmt, *this);
@@ -839,8 +863,7 @@ std::optional<MadsfmPairRow> Database::ReadMadsfmPair(pair_t pair_id) const {
 std::vector<MadsfmPairRow> Database::ReadMadsfmPairs() const {
   std::vector<MadsfmPairRow> rows;
   if (!TableExists(db_, path_, kMadsfmPairsTable)) return rows;
-  Statement stmt(db_, path_,
-                 std::string("SELECT ") + kMadsfmPairColumns + " FROM " + kMadsfmPairsTable + " ORDER BY pair_id");
+  Statement stmt(db_, path_, MadsfmPairSelect(db_, path_) + " ORDER BY pair_id");
   while (stmt.Step()) rows.push_back(ReadMadsfmPairRow(stmt, *this));
   return rows;
 }

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -84,6 +85,13 @@ struct MadsfmPairRow {
   double score = 0;
   std::string options_fingerprint;
   int status = 0;       // 0 ok, 1 failed (no model), 2 skipped (too few matches)
+  // Whether the pair determines scale and shifts (HybridEstimate::depth_observable: 1 yes, 0 no, -1 unknown: a row
+  // written before madsfm stored it), and their standard deviations (shifts relative to the median prior of their
+  // image, scale relative to itself; NaN when not fitted).
+  int depth_observable = -1;
+  double sigma_scale = std::numeric_limits<double>::quiet_NaN();
+  double sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
+  double sigma_shift2 = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Thread safety: the connection is opened in SQLite's serialized mode and every call prepares its own statements, so

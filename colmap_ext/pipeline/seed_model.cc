@@ -108,7 +108,10 @@ SeedModelSummary RunSeedModelImpl(const SeedModelOptions& options) {
     if (c.tri_angle_deg < options.min_tri_angle_deg) {
       // Low parallax: usable only when the depth priors carry the structure.
       const int depth_inliers = std::min(c.row.num_inliers_reproj1, c.row.num_inliers_reproj2);
-      if (!use_depth || c.row.method != 0 || c.tri_angle_deg < options.min_depth_tri_angle_deg ||
+      // depth_observable 0: the estimator said the pair does not determine scale and shifts (-1: a row written
+      // before madsfm stored it, judged by its depth inliers alone).
+      if (!use_depth || c.row.method != 0 || c.row.depth_observable == 0 ||
+          c.tri_angle_deg < options.min_depth_tri_angle_deg ||
           depth_inliers < options.min_depth_inlier_ratio * c.row.num_inliers) {
         continue;
       }

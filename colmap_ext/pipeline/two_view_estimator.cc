@@ -193,6 +193,10 @@ colmap::MadsfmPairRow MakeMadsfmRow(const PairJob& job, const std::string& finge
     row.num_inliers_reproj2 = job.estimate.num_inliers_reproj1;
     row.num_inliers_sampson = job.estimate.num_inliers_sampson;
     row.num_inliers = job.estimate.num_inliers_sampson;
+    row.depth_observable = job.estimate.depth_observable ? 1 : 0;
+    row.sigma_scale = job.estimate.sigma_scale;
+    row.sigma_shift1 = job.estimate.sigma_shift0;
+    row.sigma_shift2 = job.estimate.sigma_shift1;
     row.score = job.estimate.score;
   }
   return row;

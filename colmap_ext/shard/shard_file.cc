@@ -141,6 +141,10 @@ std::vector<unsigned char> EncodeMadsfm(const MadsfmPairRow& m) {
                 m.num_inliers, m.status}) {
     w.Put(static_cast<int32_t>(v));
   }
+  // Since the depth observability was stored: int32 depth_observable, 3 doubles (older shards end before).
+  w.Put(static_cast<int32_t>(m.depth_observable));
+  const double sigmas[3] = {m.sigma_scale, m.sigma_shift1, m.sigma_shift2};
+  w.PutDoubles(sigmas, 3);
   return w.bytes();
 }
 
@@ -161,6 +165,15 @@ MadsfmPairRow DecodeMadsfm(pair_t pair_id, const std::string& options_fingerprin
   for (int* v : {&m.camera_mode, &m.method, &m.num_inliers_reproj1, &m.num_inliers_reproj2, &m.num_inliers_sampson,
                  &m.num_inliers, &m.status}) {
     *v = r.Get<int32_t>();
+  }
+  if (r.remaining() > 0) {  // shards written before the depth observability end here
+    m.depth_observable = r.Get<int32_t>();
+    if (m.depth_observable < -1 || m.depth_observable > 1) r.Fail("depth_observable must be -1, 0 or 1");
+    double sigmas[3];
+    r.GetDoubles(sigmas, 3);
+    m.sigma_scale = sigmas[0];
+    m.sigma_shift1 = sigmas[1];
+    m.sigma_shift2 = sigmas[2];
   }
   r.ExpectEnd();
   return m;

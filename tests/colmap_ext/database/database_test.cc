@@ -560,6 +560,10 @@ MadsfmPairRow MakeMadsfmRow(pair_t pair_id, double seed) {
   row.score = 17.5 * seed;
   row.options_fingerprint = "reproj=8;epi=2;seed=" + std::to_string(seed);
   row.status = 0;
+  row.depth_observable = seed > 1 ? 1 : 0;
+  row.sigma_scale = 0.0625 * seed;
+  row.sigma_shift1 = 0.25;
+  row.sigma_shift2 = std::numeric_limits<double>::quiet_NaN();  // not fitted
   return row;
 }
 
@@ -584,6 +588,13 @@ void ExpectSameMadsfmRow(const MadsfmPairRow& a, const MadsfmPairRow& b) {
   EXPECT_EQ(a.score, b.score);
   EXPECT_EQ(a.options_fingerprint, b.options_fingerprint);
   EXPECT_EQ(a.status, b.status);
+  EXPECT_EQ(a.depth_observable, b.depth_observable);
+  EXPECT_EQ(a.sigma_scale, b.sigma_scale);
+  EXPECT_EQ(a.sigma_shift1, b.sigma_shift1);
+  EXPECT_EQ(std::isnan(a.sigma_shift2), std::isnan(b.sigma_shift2));
+  if (!std::isnan(a.sigma_shift2)) {
+    EXPECT_EQ(a.sigma_shift2, b.sigma_shift2);
+  }
 }
 
 // The whole write / read-back / backup / restore scenario on one populated database.
@@ -1325,6 +1336,41 @@ TEST_F(SyntheticDatabase, MadsfmPairsReplaceAndReadBack) {
   EXPECT_EQ(db->RestoreTwoViewGeometries(), 0);
   EXPECT_EQ(SnapshotColmapTables(path), before);
   EXPECT_TRUE(MadsfmTables(path).empty());
+}
+
+// A madsfm table written before the depth-observability columns: read as unknown (-1, NaN) read-only, and given the
+// columns (old rows NULL) by the first write.
+TEST_F(SyntheticDatabase, MadsfmTableWithoutObservabilityColumnsIsReadAndMigrated) {
+  const std::string path = MakeDb("madsfm_old_table.db");
+  {
+    auto db = Database::Open(path);
+    db->WriteMadsfmPair(MakeMadsfmRow(ImagePairToPairId(1, 2), 2));
+  }
+  {  // drop the four columns (SQLite >= 3.35)
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
+    for (const char* c : {"depth_observable", "sigma_scale", "sigma_shift1", "sigma_shift2"}) {
+      ASSERT_EQ(sqlite3_exec(raw, (std::string("ALTER TABLE madsfm_two_view_geometries DROP COLUMN ") + c).c_str(),
+                             nullptr, nullptr, nullptr),
+                SQLITE_OK)
+          << sqlite3_errmsg(raw);
+    }
+    sqlite3_close(raw);
+  }
+  {
+    auto db = Database::Open(path, /*read_only=*/true);
+    const auto row = db->ReadMadsfmPair(ImagePairToPairId(1, 2));
+    ASSERT_TRUE(row.has_value());
+    EXPECT_EQ(row->depth_observable, -1);
+    EXPECT_TRUE(std::isnan(row->sigma_scale));
+    EXPECT_EQ(row->num_inliers, 140);
+  }
+  auto db = Database::Open(path);
+  db->WriteMadsfmPair(MakeMadsfmRow(ImagePairToPairId(2, 3), 3));
+  const auto rows = db->ReadMadsfmPairs();
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].depth_observable, -1);  // the old row
+  ExpectSameMadsfmRow(rows[1], MakeMadsfmRow(ImagePairToPairId(2, 3), 3));
 }
 
 TEST_F(SyntheticDatabase, ConcurrentReadersShareOneConnection) {

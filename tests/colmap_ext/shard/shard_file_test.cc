@@ -85,6 +85,10 @@ ShardResult SomeResult(pair_t pair_id, bool with_geometry, bool calibrated) {
   r.madsfm.score = 3.25;
   r.madsfm.status = with_geometry ? 0 : 1;
   r.madsfm.options_fingerprint = SomeInfo().options_fingerprint;
+  r.madsfm.depth_observable = with_geometry ? 1 : 0;
+  r.madsfm.sigma_scale = 0.03125;
+  r.madsfm.sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
+  r.madsfm.sigma_shift2 = 0.5;
   return r;
 }
 
@@ -123,7 +127,8 @@ void ExpectSameResult(const ShardResult& a, const ShardResult& b) {
   EXPECT_EQ(m.R, n.R);
   EXPECT_EQ(m.t, n.t);
   for (auto [u, v] : {std::pair{m.scale, n.scale}, {m.shift1, n.shift1}, {m.shift2, n.shift2},
-                      {m.focal1, n.focal1}, {m.focal2, n.focal2}, {m.score, n.score}}) {
+                      {m.focal1, n.focal1}, {m.focal2, n.focal2}, {m.score, n.score}, {m.sigma_scale, n.sigma_scale},
+                      {m.sigma_shift1, n.sigma_shift1}, {m.sigma_shift2, n.sigma_shift2}}) {
     EXPECT_TRUE(SameBits(u, v)) << u << " vs " << v;
   }
   EXPECT_EQ(m.camera_mode, n.camera_mode);
@@ -133,6 +138,7 @@ void ExpectSameResult(const ShardResult& a, const ShardResult& b) {
   EXPECT_EQ(m.num_inliers_sampson, n.num_inliers_sampson);
   EXPECT_EQ(m.num_inliers, n.num_inliers);
   EXPECT_EQ(m.status, n.status);
+  EXPECT_EQ(m.depth_observable, n.depth_observable);
   EXPECT_EQ(m.options_fingerprint, n.options_fingerprint);
 }
 
@@ -260,6 +266,31 @@ TEST(ShardFile, OpenRejectsAnotherFormatAndBadInfo) {
   testing::ExecSql(missing_key, "DELETE FROM madsfm_shard_info WHERE key = 'options_fingerprint'");
   EXPECT_NE(ErrorOf([&] { ShardFile::Open(missing_key, true); }).find("lacks the info key 'options_fingerprint'"),
             std::string::npos);
+}
+
+// Shards written before the depth observability was stored end after the status: read as unknown (-1, NaN); a
+// partial trailing section or an out-of-range flag is an error naming the file.
+TEST(ShardFile, ResultsWithoutTheObservabilitySectionReadAsUnknown) {
+  const std::string path = TempPath("old_blob.sqlite");
+  const pair_t p = ImagePairToPairId(1, 2);
+  {
+    auto shard = ShardFile::Create(path, SomeInfo(), {p});
+    shard->Begin();
+    shard->WriteResult(SomeResult(p, true, true));
+    shard->Commit();
+  }
+  testing::ExecSql(path, "UPDATE madsfm_shard_results SET madsfm = substr(madsfm, 1, length(madsfm) - 28)");
+  int n = 0;
+  ShardFile::Open(path, true)->ForEachResult([&](const ShardResult& r) {
+    ++n;
+    EXPECT_EQ(r.madsfm.depth_observable, -1);
+    EXPECT_TRUE(std::isnan(r.madsfm.sigma_scale));
+    EXPECT_EQ(r.madsfm.num_inliers, 12);
+  });
+  EXPECT_EQ(n, 1);
+  testing::ExecSql(path, "UPDATE madsfm_shard_results SET madsfm = madsfm || x'07000000'");
+  const std::string e = ErrorOf([&] { ShardFile::Open(path, true)->ForEachResult([](const ShardResult&) {}); });
+  EXPECT_NE(e.find("shard file '" + path + "'"), std::string::npos) << e;
 }
 
 TEST(ShardFile, MalformedResultBlobsAreReportedWithFileAndPair) {
