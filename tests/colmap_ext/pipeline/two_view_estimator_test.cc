@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -69,7 +70,7 @@ TEST(TwoViewEstimator, EstimatesEveryPairAndWritesColmapRows) {
   EXPECT_EQ(s.num_images_with_depth, 12);
   EXPECT_EQ(testing::IntegrityCheck(p.db), "ok");
   auto db = colmap::Database::Open(p.db, true);
-  int accurate = 0;
+  int accurate = 0, observable = 0;
   for (int k = 0; k < 6; ++k) {
     const colmap::pair_t id = colmap::ImagePairToPairId(2 * k + 1, 2 * k + 2);
     const auto row = db->ReadMadsfmPair(id);
@@ -87,8 +88,13 @@ TEST(TwoViewEstimator, EstimatesEveryPairAndWritesColmapRows) {
     // overlap little gets fewer inliers than 70% of the 300 requested, so compare with its own count.)
     const double true_inliers = p.pairs[k].num_inliers;
     EXPECT_NEAR(static_cast<double>(geometry->inlier_matches.size()), true_inliers, std::max(5.0, 0.05 * true_inliers));
+    // The estimator's word on the depth corrections is stored with them.
+    EXPECT_TRUE(row->depth_observable == 0 || row->depth_observable == 1);
+    EXPECT_TRUE(std::isfinite(row->sigma_scale) && row->sigma_scale >= 0);
+    observable += row->depth_observable == 1;
   }
   EXPECT_GE(accurate, 5);
+  EXPECT_GE(observable, 4) << "baselines of 5-30% of the depth: most pairs determine scale and shifts";
 }
 
 // On a database with COLMAP main's camera1 / camera2 columns (here a 3.8 database main has opened, which adds them
