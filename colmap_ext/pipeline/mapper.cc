@@ -334,7 +334,12 @@ MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<vo
     if (s.seed.depth_backed && options.fix_focal_low_parallax && s.focal.size() == 1 && s.focal[0].updated &&
         s.focal[0].trusted && !seeded.model_path.empty() &&
         !FindArg(options.colmap_mapper_args, "--Mapper.ba_refine_focal_length", &value)) {
-      const colmap::Reconstruction model = colmap::ReadReconstruction(seeded.model_path);
+      colmap::Reconstruction model;
+      try {
+        model = colmap::ReadReconstruction(seeded.model_path);
+      } catch (const std::exception& e) {  // keep the seeded run as it is
+        say(true, std::string("madsfm mapper: cannot read the seeded model to check its focal: ") + e.what());
+      }
       const auto cam = model.cameras.find(s.focal[0].camera_id);
       if (cam != model.cameras.end()) {
         const colmap::CameraIntrinsics& k = cam->second.intrinsics;
