@@ -18,6 +18,7 @@
 #include <stdexcept>
 
 #include "colmap_ext/database/database.h"
+#include "colmap_ext/io/file_copy.h"
 #include "colmap_ext/model/reconstruction.h"
 
 extern char** environ;
@@ -145,25 +146,13 @@ std::string LargestModel(const fs::path& dir, int* num_registered, size_t* num_p
   return best;
 }
 
-// Copies one file through streams (libstdc++ retries reads and writes a signal interrupted; the sendfile() of
-// std::filesystem::copy_file does not, and this runs while colmap children and Slurm may signal us).
-void CopyFileContents(const fs::path& src, const fs::path& dst) {
-  std::ifstream in(src, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read " + src.string());
-  std::ofstream out(dst, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error("cannot write " + dst.string());
-  if (in.peek() != std::ifstream::traits_type::eof()) out << in.rdbuf();  // << of an empty buffer sets failbit
-  out.close();
-  if (!out || in.bad()) throw std::runtime_error("cannot copy " + src.string() + " to " + dst.string());
-}
-
 void CopyModel(const std::string& from, const std::string& to) {
   fs::create_directories(to);
   for (const char* f : {"cameras", "images", "points3D"}) {
     for (const char* ext : {".bin", ".txt"}) {
       const fs::path src = fs::path(from) / (std::string(f) + ext), dst = fs::path(to) / (std::string(f) + ext);
       if (fs::exists(src)) {
-        CopyFileContents(src, dst);
+        colmap::CopyFileContents(src, dst);
       } else {
         fs::remove(dst);  // a stale file of the other format would be read instead
       }

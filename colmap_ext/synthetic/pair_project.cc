@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "colmap_ext/database/database_builder.h"
+#include "colmap_ext/io/file_copy.h"
 #include "madsfm/io/depth_map_io.h"
 #include "madsfm/io/json_writer.h"
 #include "madsfm/io/pair_directory.h"
@@ -33,11 +34,7 @@ PairProjectSummary WritePairProject(const std::string& pair_path, const std::str
   fs::create_directories(fs::path(output_path) / "images");
   fs::create_directories(fs::path(output_path) / "depths");
   for (const std::string& n : names) {
-    const fs::path src = fs::path(pair_path) / n, dst = fs::path(output_path) / "images" / n;
-    std::ifstream in(src, std::ios::binary);
-    std::ofstream out(dst, std::ios::binary | std::ios::trunc);
-    out << in.rdbuf();
-    if (!in || !out) throw std::runtime_error("cannot copy '" + src.string() + "' to '" + dst.string() + "'");
+    CopyFileContents(fs::path(pair_path) / n, fs::path(output_path) / "images" / n);
   }
   WriteDepthMapNpy(*pair.depth0, (fs::path(output_path) / "depths" / "image0.png.npy").string());
   WriteDepthMapNpy(*pair.depth1, (fs::path(output_path) / "depths" / "image1.png.npy").string());

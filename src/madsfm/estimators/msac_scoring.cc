@@ -42,30 +42,13 @@ double MsacWeights::ParallelSin2(double focal_px0, double focal_px1) const {
   return std::max(ModelResiduals::kParallelSin2, angle * angle);
 }
 
-double ScoreModel(const RelposeProblem& p, const AffineDepthPose& model, const MsacWeights& w, double stop_above) {
-  const ModelResiduals res(model, p.pixel_scale0, p.pixel_scale1,
-                           w.ParallelSin2(model.f0 * p.pixel_scale0, model.f1 * p.pixel_scale1));
-  const int n = p.size();
-  double score = 0.0;
-  const double* d0 = p.d0.data();
-  const double* d1 = p.d1.data();
-  for (int i = 0; i < n; ++i) {
-    if (w.use_reprojection) {
-      // NaN priors (no depth) are skipped: they are not data of the reprojection types.
-      if (d0[i] == d0[i]) score += std::min(res.Reprojection01(p.x0[i], p.x1[i], d0[i]), w.reproj_sq);
-      if (d1[i] == d1[i]) score += std::min(res.Reprojection10(p.x0[i], p.x1[i], d1[i]), w.reproj_sq);
-    }
-    if (w.use_sampson) {
-      const double e = w.cheirality ? res.SampsonCheiral(p.x0[i], p.x1[i]) : res.Sampson(p.x0[i], p.x1[i]);
-      score += w.sampson_weight * std::min(e, w.sampson_sq);
-    }
-    if ((i & 31) == 31 && score > stop_above) return score;
-  }
-  return score;
-}
+namespace {
 
-double ScoreModelCounting(const RelposeProblem& p, const AffineDepthPose& model, const MsacWeights& w, double stop_above,
-                          int min_count, int* count) {
+// The score of ScoreModel; with kCount also the inliers (into *count), and then an early stop needs, besides the
+// score above stop_above, a count that can no longer exceed min_count.
+template <bool kCount>
+double Score(const RelposeProblem& p, const AffineDepthPose& model, const MsacWeights& w, double stop_above,
+             int min_count, int* count) {
   const ModelResiduals res(model, p.pixel_scale0, p.pixel_scale1,
                            w.ParallelSin2(model.f0 * p.pixel_scale0, model.f1 * p.pixel_scale1));
   const int n = p.size();
@@ -76,26 +59,38 @@ double ScoreModelCounting(const RelposeProblem& p, const AffineDepthPose& model,
   const double* d1 = p.d1.data();
   for (int i = 0; i < n; ++i) {
     if (w.use_reprojection) {
+      // NaN priors (no depth) are skipped: they are not data of the reprojection types.
       if (d0[i] == d0[i]) {
         const double e = res.Reprojection01(p.x0[i], p.x1[i], d0[i]);
-        c += e < w.reproj_sq;
+        if (kCount) c += e < w.reproj_sq;
         score += std::min(e, w.reproj_sq);
       }
       if (d1[i] == d1[i]) {
         const double e = res.Reprojection10(p.x0[i], p.x1[i], d1[i]);
-        c += e < w.reproj_sq;
+        if (kCount) c += e < w.reproj_sq;
         score += std::min(e, w.reproj_sq);
       }
     }
     if (w.use_sampson) {
       const double e = w.cheirality ? res.SampsonCheiral(p.x0[i], p.x1[i]) : res.Sampson(p.x0[i], p.x1[i]);
-      c += e < w.sampson_sq;
+      if (kCount) c += e < w.sampson_sq;
       score += w.sampson_weight * std::min(e, w.sampson_sq);
     }
-    if ((i & 31) == 31 && score > stop_above && c + per_point * (n - 1 - i) <= min_count) break;
+    if ((i & 31) == 31 && score > stop_above && (!kCount || c + per_point * (n - 1 - i) <= min_count)) break;
   }
-  *count = c;
+  if (kCount) *count = c;
   return score;
+}
+
+}  // namespace
+
+double ScoreModel(const RelposeProblem& p, const AffineDepthPose& model, const MsacWeights& w, double stop_above) {
+  return Score<false>(p, model, w, stop_above, 0, nullptr);
+}
+
+double ScoreModelCounting(const RelposeProblem& p, const AffineDepthPose& model, const MsacWeights& w, double stop_above,
+                          int min_count, int* count) {
+  return Score<true>(p, model, w, stop_above, min_count, count);
 }
 
 void ComputeInliers(const RelposeProblem& p, const AffineDepthPose& model, const MsacWeights& w, InlierSets* in) {
