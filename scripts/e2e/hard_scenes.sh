@@ -3,6 +3,7 @@
 # one markdown row per scene and seed (tests/e2e/hard_scene_mapper.sh), collected in WORK_DIR/hard_scenes.md, then
 # per scene: runs where madsfm registered fewer images than plain, or failed an assertion.
 # Usage: scripts/e2e/hard_scenes.sh MADSFM_BINARY WORK_DIR [SEEDS...]   (default seeds: 0 1 2)
+# Env: PLAIN_RELAXED=1 also runs scripts/e2e/plain_relaxed.sh on the walks (plain COLMAP, init_min_tri_angle 1).
 set -uo pipefail
 MADSFM="$1"; WORK="$2"; shift 2
 SEEDS=("$@"); [ ${#SEEDS[@]} -gt 0 ] || SEEDS=(0 1 2)
@@ -32,3 +33,6 @@ echo "| scene | plain registered | plain rot err (deg) | plain focal err | plain
 echo "|---|---|---|---|---|---|---|---|---|"
 sort "$WORK/hard_scenes.md"
 echo "failed assertions:"; cat "$WORK/failures.txt"
+if [ "${PLAIN_RELAXED:-0}" = 1 ]; then  # the walks also against plain COLMAP with a relaxed initial pair
+  echo; bash "$HERE/plain_relaxed.sh" "$MADSFM" "$WORK"/sideways_walk*/seed_*
+fi

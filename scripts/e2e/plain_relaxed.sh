@@ -11,7 +11,9 @@ angle=${INIT_MIN_TRI_ANGLE:-1}
 echo "| scene folder | plain, init_min_tri_angle $angle: registered | rot err (deg) | focal err | time (s) | madsfm: registered | rot err (deg) | focal err | time (s) |"
 echo "|---|---|---|---|---|---|---|---|---|"
 for work in "$@"; do
-  [ -f "$work/scene/database.db" ] || { echo "$work: no scene/database.db (run tests/e2e/hard_scene_mapper.sh first)" >&2; exit 2; }
+  for f in scene/database.db scene/ground_truth.json madsfm.json madsfm_mapper.log; do
+    [ -f "$work/$f" ] || { echo "$work: no $f (run tests/e2e/hard_scene_mapper.sh on it first)" >&2; exit 2; }
+  done
   out="$work/plain_relaxed"; rm -rf "$out"; mkdir -p "$out/model"
   cp "$work/scene/database.db" "$out/database.db"
   t0=$(date +%s.%N)
