@@ -93,9 +93,9 @@ def pair_bound(path):
     t = T[:3, 3] / np.linalg.norm(T[:3, 3])
     tx = np.array([[0, -t[2], t[1]], [t[2], 0, -t[0]], [-t[1], t[0], 0]])
     F = np.linalg.inv(K1).T @ tx @ T[:3, :3] @ np.linalg.inv(K0)
-    h0, h1 = np.c_[p0, np.ones(len(p0))], np.c_[p1, np.ones(len(p1))]
-    Fx0, Ftx1 = (F @ h0.T).T, (F.T @ h1.T).T
-    sampson = (h1 * Fx0).sum(1) ** 2 / (Fx0[:, 0] ** 2 + Fx0[:, 1] ** 2 + Ftx1[:, 0] ** 2 + Ftx1[:, 1] ** 2)
+    x0, x1 = np.c_[p0, np.ones(len(p0))], np.c_[p1, np.ones(len(p1))]
+    Fx0, Ftx1 = (F @ x0.T).T, (F.T @ x1.T).T
+    sampson = (x1 * Fx0).sum(1) ** 2 / (Fx0[:, 0] ** 2 + Fx0[:, 1] ** 2 + Ftx1[:, 0] ** 2 + Ftx1[:, 1] ** 2)
     epi = float(os.environ.get("EPI", "2"))
     seen = (sampson <= epi * epi) & (d0 > 0) & (d1 > 0)
     e0, e1, ez0, ez1 = d0[use], d1[use], z0[use], z1[use]  # the evaluation set
@@ -109,6 +109,9 @@ def pair_bound(path):
         f0, f1 = d0[subset][ok], d1[subset][ok]
         for loss in ("none", "huber", "cauchy"):
             for prior_sigma in (0.03, 0.1):
+                if ok.sum() < 8:  # too few matches in front of both cameras: no fit
+                    ratios[f"{name}:{loss}/{prior_sigma}"] = float("inf")
+                    continue
                 w = 1.0 / (prior_sigma ** 2 + angular_noise ** 2 / np.maximum(sin2[ok], 1e-300))
                 c0 = weighted_fit(f0, tz0[ok], w, loss)
                 c1 = weighted_fit(f1, tz1[ok], w, loss)
