@@ -581,6 +581,7 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
     }
     summary.write_seconds += Seconds(t2, Clock::now());
     done += static_cast<int>(jobs.size());
+    if (options.on_batch_written) options.on_batch_written(done, static_cast<int>(todo.size()));
     if (options.progress && (Seconds(last_progress, Clock::now()) > 1.0 || done == static_cast<int>(todo.size()))) {
       PrintProgress(done, static_cast<int>(todo.size()), Seconds(t_loop, Clock::now()), tty);
       last_progress = Clock::now();

@@ -2,6 +2,7 @@
 // written back as two-view geometries (issue 5). Command line: colmap_ext/exe/two_view_estimator_command.h.
 #pragma once
 
+#include <functional>
 #include <set>
 #include <string>
 #include <utility>
@@ -22,6 +23,9 @@ struct TwoViewEstimatorOptions {
   int min_num_inliers = 15;          // fewer inliers: the pair keeps COLMAP's own row
   int batch_size = 256;              // pairs per write transaction
   bool progress = true;
+  // Called after every batch has been written (committed to the database or the shard file), with the pairs done so
+  // far in this run and the pairs to do; for progress displays and the crash tests. Runs on the calling thread.
+  std::function<void(int done, int total)> on_batch_written;
   // Sharding (docs/cluster.md): with shard_path set, the database is only read and the results of the pairs of
   // shard shard_index (of num_shards, split by SplitPairsIntoShards) go to the shard file; merge_shards writes them.
   int num_shards = 1;

@@ -1,10 +1,11 @@
 // Crash safety of `madsfm two_view_estimator`: a run on a database of 300 synthetic pairs (write transactions of 16
 // pairs, in a forked child running RunTwoViewEstimatorImpl) is SIGKILLed at seeded random moments spread over the
-// run. After every kill the database must be healthy (integrity check "ok"), hold whole batches only (the done pairs
-// are a prefix of the pair order whose length is a multiple of the batch size, each with its final rows), keep
-// COLMAP's original rows of every other pair, and a rerun of the CLI binary must end with tables byte-identical to
-// an uninterrupted reference run of the CLI. Shard tasks (CLI with --shard_path --batch_size 16) are killed too:
-// their shard files must hold whole batches, resume, and merge to the reference tables.
+// run (anchored to its progress: after a random batch, within a random part of the next). After every kill the
+// database must be healthy (integrity check "ok"), hold whole batches only (the done pairs are a prefix of the pair
+// order whose length is a multiple of the batch size, each with its final rows), keep COLMAP's original rows of
+// every other pair, and a rerun of the CLI binary must end with tables byte-identical to an uninterrupted reference
+// run of the CLI. Shard tasks (CLI with --shard_path --batch_size 16) are killed too: their shard files must hold
+// whole batches, resume, and merge to the reference tables.
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -136,7 +137,8 @@ pid_t StartCli(const std::string& db, const std::vector<std::string>& extra_args
 // and max_iterations, hence the same options fingerprint) but batches of kBatchSize pairs, calling
 // RunTwoViewEstimatorImpl directly. The test process is single-threaded and holds no SQLite connection when it forks.
 // Returns the child's pid.
-pid_t StartForkedEstimator(const std::string& db) {
+// notify_fd >= 0: the child writes one byte to it after every batch it has written (on_batch_written).
+pid_t StartForkedEstimator(const std::string& db, int notify_fd = -1) {
   TwoViewEstimatorOptions o;
   o.database_path = db;
   o.depth_path = Project().depths;
@@ -145,6 +147,13 @@ pid_t StartForkedEstimator(const std::string& db) {
   o.progress = false;
   o.estimator.seed = 0;
   o.estimator.max_iterations = kMaxIterations;
+  if (notify_fd >= 0) {
+    o.on_batch_written = [notify_fd](int, int) {
+      const char byte = 1;
+      while (::write(notify_fd, &byte, 1) < 0 && errno == EINTR) {
+      }
+    };
+  }
   std::fflush(nullptr);
   const pid_t pid = fork();
   if (pid == 0) {
@@ -370,23 +379,44 @@ TEST(TwoViewEstimatorKill, KilledRunsLeaveWholeBatchesAndResumeToTheReferenceRes
   EXPECT_EQ(FirstDifference(testing::DumpTable(batched, "madsfm_two_view_geometries"), ref_dump_madsfm), "");
   std::printf("uninterrupted run in batches of %d: %.2f s\n", kBatchSize, batched_seconds);
 
-  // Kill moments: one uniformly random moment in each fifth of [5%, 90%] of the uninterrupted batched run's time.
+  // Kill moments, anchored to the run's progress rather than to a wall time (the machine's load changes between
+  // runs): kill k waits until the child reports batch b_k written, b_k drawn uniformly from the k-th fifth of the
+  // batches before the last one, then a uniformly random part of one batch's time (measured on this run so far),
+  // so the kill lands anywhere in the next batch's estimation or write transaction. Kill 0 may land before the
+  // first batch is written (b_0 = 0: a random part of the first batch's expected time).
+  const int num_batches = (kNumPairs + kBatchSize - 1) / kBatchSize;
   std::mt19937 rng(20261123);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::string last_killed_db;
   int num_killed_mid_run = 0, num_partial = 0;
   for (int k = 0; k < kNumKills; ++k) {
-    const double fraction = 0.05 + 0.85 * (k + uniform(rng)) / kNumKills;
+    const int target = k == 0 ? 0 : static_cast<int>((k + uniform(rng)) * (num_batches - 1) / kNumKills);
+    const double within = uniform(rng);
     const std::string db = CopyDatabase("kill" + std::to_string(k));
-    const pid_t pid = StartForkedEstimator(db);
+    int fds[2];
+    ASSERT_EQ(::pipe(fds), 0) << std::strerror(errno);
+    const auto t_start = Clock::now();
+    const pid_t pid = StartForkedEstimator(db, fds[1]);
+    ::close(fds[1]);
     ASSERT_GT(pid, 0);
-    std::this_thread::sleep_for(std::chrono::duration<double>(fraction * batched_seconds));
+    int reported = 0;
+    for (char byte; reported < target;) {
+      const ssize_t n = ::read(fds[0], &byte, 1);
+      if (n == 1) ++reported;
+      else if (n == 0 || errno != EINTR) break;  // the child exited (or the pipe failed): no more progress
+    }
+    const double batch_seconds = reported > 0 ? std::chrono::duration<double>(Clock::now() - t_start).count() / reported
+                                              : batched_seconds / num_batches;
+    std::this_thread::sleep_for(std::chrono::duration<double>(within * batch_seconds));
     ::kill(pid, SIGKILL);
+    const double kill_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
     const int status = WaitFor(pid);
+    ::close(fds[0]);
     const bool killed = WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL;
     num_killed_mid_run += killed;
     const bool hot_journal = fs::exists(db + "-journal") && fs::file_size(db + "-journal") > 0;
-    SCOPED_TRACE("kill " + std::to_string(k) + " at " + std::to_string(fraction) + " of the run");
+    SCOPED_TRACE("kill " + std::to_string(k) + " after batch " + std::to_string(target) + " + " +
+                 std::to_string(within) + " of a batch");
 
     // Opening read-write rolls a hot journal back, as COLMAP's next open would.
     const std::map<int64_t, std::string> geometries = RowsByPair(db, "two_view_geometries");
@@ -396,8 +426,8 @@ TEST(TwoViewEstimatorKill, KilledRunsLeaveWholeBatchesAndResumeToTheReferenceRes
     const std::map<int64_t, std::pair<int, int>> done = MadsfmStatus(db);
     const std::map<int64_t, int> geometry_counts = GeometryRowCounts(db);
     num_partial += !done.empty() && done.size() < static_cast<size_t>(kNumPairs);
-    std::printf("kill %d at %.0f%% of the run (%.2f s): %s, hot journal %s, %zu/%d pairs done\n", k,
-                100 * fraction, fraction * batched_seconds, killed ? "SIGKILLed" : "had already exited",
+    std::printf("kill %d after batch %d of %d + %.0f%% of a batch (%.2f s): %s, hot journal %s, %zu/%d pairs done\n",
+                k, target, num_batches, 100 * within, kill_seconds, killed ? "SIGKILLed" : "had already exited",
                 hot_journal ? "yes" : "no", done.size(), kNumPairs);
 
     // Whole batches only: the done pairs are the first k * batch_size pairs of the estimator's order.
@@ -451,9 +481,9 @@ TEST(TwoViewEstimatorKill, KilledRunsLeaveWholeBatchesAndResumeToTheReferenceRes
     EXPECT_EQ(FirstDifference(testing::DumpTable(db, "madsfm_backup_two_view_geometries"), ref_dump_backup), "");
     last_killed_db = db;
   }
-  // Kills hit running processes (a loaded machine may shift one or two past the end), and some mid-way through the
-  // batches.
-  EXPECT_GE(num_killed_mid_run, kNumKills - 2);
+  // Kills hit running processes (anchored to progress, each lands before the last batch unless a batch takes far
+  // longer than the ones before it), and some mid-way through the batches.
+  EXPECT_GE(num_killed_mid_run, kNumKills - 1);
   EXPECT_GE(num_partial, 1);
 
   // `madsfm restore` after a killed-and-resumed run gives COLMAP's original rows back.

@@ -173,7 +173,9 @@ TEST_P(TwoViewEstimatorOnRelease, EstimatesWritesAndRestores) {
       EXPECT_TRUE(g->qvec.has_value() && g->E.has_value() && g->F.has_value());
       EXPECT_EQ(g->camera1.has_value(), release == colmap::ColmapRelease::kMain);
     }
-    if (release >= colmap::ColmapRelease::k3_12) EXPECT_EQ(testing::DumpTable(p.db, "frames"), frames_before);
+    if (release >= colmap::ColmapRelease::k3_12) {
+      EXPECT_EQ(testing::DumpTable(p.db, "frames"), frames_before);
+    }
   }
   colmap::Database::Open(p.db)->RestoreTwoViewGeometries();
   EXPECT_EQ(testing::DumpTable(p.db, "sqlite_master"), schema_before);
