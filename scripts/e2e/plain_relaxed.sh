@@ -23,7 +23,8 @@ for work in "$@"; do
   best='{"num_registered": 0}'; bestn=-1
   for d in "$out"/model/*/; do
     [ -d "$d" ] || continue
-    j=$("$MADSFM" model_compare --input_path "$d" --ground_truth_path "$work/scene/ground_truth.json" --output_format json 2>/dev/null) || continue
+    j=$("$MADSFM" model_compare --input_path "$d" --ground_truth_path "$work/scene/ground_truth.json" \
+          --output_format json 2>/dev/null) || continue
     n=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["num_registered"])' "$j")
     if [ "$n" -gt "$bestn" ]; then best=$j; bestn=$n; fi
   done
