@@ -7,8 +7,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "colmap_ext/database/database.h"
 #include "colmap_ext/pipeline/two_view_estimator.h"
@@ -301,6 +305,54 @@ TEST(MergeShards, TheDepthFolderCountsByLocationNotSpelling) {
   TwoViewEstimatorOptions other = a;
   other.depth_path = p.dir;
   EXPECT_NE(OptionsFingerprint(other), OptionsFingerprint(a));
+}
+
+// Every estimator option that changes a result changes the fingerprint, so a rerun with it re-estimates the pairs.
+TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
+  const Project p = MakeProject("fingerprint");
+  const TwoViewEstimatorOptions a = Options(p, p.db);
+  const std::vector<std::pair<std::string, std::function<void(HybridEstimatorOptions*)>>> changes = {
+      {"reproj_threshold", [](HybridEstimatorOptions* e) { e->reproj_threshold += 1; }},
+      {"epipolar_threshold", [](HybridEstimatorOptions* e) { e->epipolar_threshold += 1; }},
+      {"sampson_weight", [](HybridEstimatorOptions* e) { e->sampson_weight += 1; }},
+      {"solvers", [](HybridEstimatorOptions* e) { e->solvers = SolverChoice::kPointsOnly; }},
+      {"scoring", [](HybridEstimatorOptions* e) { e->scoring = ScoringMode::kSampsonOnly; }},
+      {"estimate_shift", [](HybridEstimatorOptions* e) { e->estimate_shift = !e->estimate_shift; }},
+      {"sampson_cheirality", [](HybridEstimatorOptions* e) { e->sampson_cheirality = !e->sampson_cheirality; }},
+      {"cheirality_min_parallax", [](HybridEstimatorOptions* e) { e->cheirality_min_parallax += 0.25; }},
+      {"min_iterations", [](HybridEstimatorOptions* e) { e->min_iterations += 1; }},
+      {"max_iterations", [](HybridEstimatorOptions* e) { e->max_iterations += 1; }},
+      {"confidence", [](HybridEstimatorOptions* e) { e->confidence = 0.99; }},
+      {"num_lo_steps", [](HybridEstimatorOptions* e) { e->num_lo_steps += 1; }},
+      {"num_lo_lsq_steps", [](HybridEstimatorOptions* e) { e->num_lo_lsq_steps += 1; }},
+      {"lo_threshold_multiplier", [](HybridEstimatorOptions* e) { e->lo_threshold_multiplier += 1; }},
+      {"lo_inner_sample_multiplier", [](HybridEstimatorOptions* e) { e->lo_inner_sample_multiplier += 1; }},
+      {"lo_lsq_sample_size", [](HybridEstimatorOptions* e) { e->lo_lsq_sample_size += 1; }},
+      {"lo_starting_iterations", [](HybridEstimatorOptions* e) { e->lo_starting_iterations += 1; }},
+      {"lo_max_lm_iterations", [](HybridEstimatorOptions* e) { e->lo_max_lm_iterations += 1; }},
+      {"final_refinement", [](HybridEstimatorOptions* e) { e->final_refinement = !e->final_refinement; }},
+      {"final_max_lm_iterations", [](HybridEstimatorOptions* e) { e->final_max_lm_iterations += 1; }},
+      {"final_reprojection_weight", [](HybridEstimatorOptions* e) { e->final_reprojection_weight = 0.5; }},
+      {"epipolar_check_ratio", [](HybridEstimatorOptions* e) { e->epipolar_check_ratio = 1.5; }},
+      {"max_shift_ratio", [](HybridEstimatorOptions* e) { e->max_shift_ratio += 1; }},
+      {"final_depth_fit", [](HybridEstimatorOptions* e) { e->final_depth_fit = !e->final_depth_fit; }},
+      {"depth_fit_regression", [](HybridEstimatorOptions* e) { e->depth_fit_regression = !e->depth_fit_regression; }},
+      {"max_depth_sigma", [](HybridEstimatorOptions* e) { e->max_depth_sigma *= 2; }},
+      {"seed", [](HybridEstimatorOptions* e) { e->seed += 1; }},
+  };
+  std::set<std::string> seen = {OptionsFingerprint(a)};
+  for (const auto& [name, change] : changes) {
+    TwoViewEstimatorOptions b = a;
+    change(&b.estimator);
+    EXPECT_TRUE(seen.insert(OptionsFingerprint(b)).second) << name << " does not change the fingerprint";
+  }
+  // Options that do not change a result leave it alone.
+  TwoViewEstimatorOptions c = a;
+  c.num_threads = 1;
+  c.batch_size = 7;
+  c.progress = !c.progress;
+  c.on_batch_written = [](int, int) {};
+  EXPECT_EQ(OptionsFingerprint(c), OptionsFingerprint(a));
 }
 
 TEST(MergeShards, ShardOptionsAreChecked) {

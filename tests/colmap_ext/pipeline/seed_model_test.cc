@@ -1,5 +1,7 @@
 #include "colmap_ext/pipeline/seed_model.h"
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,6 +10,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "colmap_ext/database/database.h"
@@ -28,10 +31,25 @@ struct LowParallaxProject {
   std::vector<SyntheticPair> pairs;
 };
 
+// The project folders of this process, removed at its exit.
+struct ProjectFolders {
+  std::vector<std::string> dirs;
+  ~ProjectFolders() {
+    std::error_code ec;
+    for (const std::string& d : dirs) fs::remove_all(d, ec);
+  }
+};
+
 LowParallaxProject MakeProject(const std::string& name, uint64_t seed) {
+  static ProjectFolders folders;
   LowParallaxProject p;
-  p.dir = (fs::temp_directory_path() / ("madsfm_seed_model_" + name + "_" + std::to_string(seed))).string();
+  // One folder per process: ctest runs the tests of this file at the same time, and several of them build the
+  // shared project (a fixed name would let one process delete it while another reads it).
+  p.dir = (fs::temp_directory_path() /
+           ("madsfm_seed_model_" + name + "_" + std::to_string(seed) + "_" + std::to_string(::getpid())))
+              .string();
   fs::remove_all(p.dir);
+  folders.dirs.push_back(p.dir);
   colmap::SyntheticProjectOptions o;
   o.output_path = p.dir;
   o.preset = "hard_low_parallax_calibrated";
