@@ -50,6 +50,9 @@ struct EstimatorFlags {
                        "Relaxation of the squared thresholds at the start of the local optimisation.");
     parser->AddDefault("lo_starting_iterations", &options.lo_starting_iterations,
                        "RANSAC iterations before the first local optimisation.");
+    parser->AddDefault("alt_basin_lo_margin", &options.alt_basin_lo_margin,
+                       "A minimal model of another basin within this fraction of the best minimal score is locally "
+                       "optimised too (0: off).");
     parser->AddDefault("max_shift_ratio", &options.max_shift_ratio,
                        "Bound of |shift| in median priors of its view (0: unbounded).");
     parser->AddDefault("final_depth_fit", &options.final_depth_fit,

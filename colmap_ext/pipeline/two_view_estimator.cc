@@ -278,16 +278,16 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. "madsfm-2": the estimator's results changed since "madsfm-1" (issue 12), so
-  // pairs done by an older madsfm are estimated again.
-  s << "madsfm-2;mode=" << o.camera_mode << ";depth=" << depth
+  // Every option that changes a result. The version ("madsfm-3": the search also optimises minimal models of other
+  // basins) changes with the estimator's results, so pairs done by an older madsfm are estimated again.
+  s << "madsfm-3;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";cheir="
     << e.sampson_cheirality << "/" << e.cheirality_min_parallax << ";it=" << e.min_iterations << "-"
     << e.max_iterations << ";conf=" << e.confidence << ";lo=" << e.num_lo_steps << "/" << e.num_lo_lsq_steps << "/"
     << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/"
-    << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << ";final=" << e.final_refinement << "/"
+    << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.alt_basin_lo_margin << ";final=" << e.final_refinement << "/"
     << e.final_max_lm_iterations << "/" << e.final_reprojection_weight << ";check=" << e.epipolar_check_ratio
     << ";depth_fit=" << e.max_shift_ratio << "/" << e.final_depth_fit << "/" << e.depth_fit_regression << "/"
     << e.max_depth_sigma << ";seed=" << e.seed;

@@ -29,6 +29,7 @@ void HybridEstimatorOptions::Check() const {
   Require(lo_inner_sample_multiplier >= 1, "lo_inner_sample_multiplier must be >= 1");
   Require(lo_lsq_sample_size >= 8, "lo_lsq_sample_size must be >= 8");
   Require(lo_starting_iterations >= 0, "lo_starting_iterations must be >= 0");
+  Require(std::isfinite(alt_basin_lo_margin) && alt_basin_lo_margin >= 0.0, "alt_basin_lo_margin must be >= 0");
   Require(std::isfinite(max_shift_ratio) && max_shift_ratio >= 0, "max_shift_ratio must be >= 0");
   Require(std::isfinite(cheirality_min_parallax) && cheirality_min_parallax >= 0,
           "cheirality_min_parallax must be >= 0");

@@ -66,6 +66,11 @@ struct HybridEstimatorOptions {
   // RANSAC iterations before the first local optimisation (Lebeda et al.: early best models change too often to
   // be worth optimising); the best model so far is optimised when they are reached.
   int lo_starting_iterations = 50;
+  // A minimal model of another basin than the best model (DistinctModels: rotation > 1 deg or translation direction
+  // > 5 deg apart) is locally optimised too when it scores within this fraction of the best minimal model and better
+  // than every such model before (0: off). Minimal models of the right basin can score a few percent worse than a
+  // lucky one of a wrong basin (far points, noisy samples) and would otherwise never be optimised.
+  double alt_basin_lo_margin = 0.05;
   // Levenberg-Marquardt iterations per least-squares solve.
   int lo_max_lm_iterations = 10;
   // Final refinement on the inliers of the best model.

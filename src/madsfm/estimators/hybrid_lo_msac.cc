@@ -309,6 +309,8 @@ HybridEstimate Engine::Run() {
   double best_min_model_score = std::numeric_limits<double>::infinity();  // score of best_min itself
   bool best_min_from_points = false;
   bool lo_started = false;
+  // The best score of a minimal model of another basin that was optimised (see alt_basin_lo_margin).
+  double alt_min_score = std::numeric_limits<double>::infinity();
   auto update_termination = [&]() {
     ComputeInliers(p_, best, w_, &inliers_);
     ratios = ComputeRatios(p_, inliers_, w_);
@@ -340,12 +342,24 @@ HybridEstimate Engine::Run() {
     LocalOptimize(&m, &score, from_points);
     compete(m, score);
   };
+  // The alternative-basin candidate found before the first local optimisation: optimised with it, if it is still
+  // of another basin than the best and within the margin of the best minimal score.
+  AffineDepthPose pending_alt;
+  double pending_alt_score = std::numeric_limits<double>::infinity();
+  bool pending_alt_from_points = false;
+  auto optimize_pending_alt = [&]() {
+    if (pending_alt_score <= (1.0 + o_.alt_basin_lo_margin) * best_min_score && DistinctModels(best, pending_alt)) {
+      optimize_and_compete(pending_alt, pending_alt_score, pending_alt_from_points);
+    }
+    pending_alt_score = std::numeric_limits<double>::infinity();
+  };
   int it = 0;
   for (; it < o_.max_iterations; ++it) {
     if (it >= o_.min_iterations && it >= required) break;
     if (!lo_started && it >= o_.lo_starting_iterations && have_best) {
       lo_started = true;
       optimize_and_compete(best_min, best_min_model_score, best_min_from_points);
+      optimize_pending_alt();
       update_termination();
     }
     const double P_depth = AllInlierProbability(ratios.both_depths, k_depth);
@@ -363,15 +377,43 @@ HybridEstimate Engine::Run() {
     solvers_.Solve(kind, sample, &models);
     int local_best = -1;
     double local_score = 0.0;
+    int local_alt = -1;
+    double local_alt_score = 0.0;
+    // Scored up to the bound of an alternative-basin candidate (below), which is never below best_min_score.
+    const double alt_bound = std::min(alt_min_score, (1.0 + o_.alt_basin_lo_margin) * best_min_score);
+    const double stop_above = o_.alt_basin_lo_margin > 0.0 ? alt_bound : best_min_score;
     for (int k = 0; k < static_cast<int>(models.size()); ++k) {
       int count = 0;
-      const double sc = ScoreModelCounting(p_, models[k], w_, best_min_score, best_min_count, &count);
+      const double sc = ScoreModelCounting(p_, models[k], w_, stop_above, best_min_count, &count);
       const bool better = sc < best_min_score, more = count > best_min_count;
-      if (!better && !more) continue;
+      if (!better && !more) {
+        if (stop_above > best_min_score && sc < alt_bound && (local_alt < 0 || sc < local_alt_score) &&
+            DistinctModels(best, models[k])) {
+          local_alt = k;
+          local_alt_score = sc;
+        }
+        continue;
+      }
       if (better) best_min_score = sc;
       if (more) best_min_count = count;
       local_best = k;
       local_score = sc;
+    }
+    if (local_best < 0 && local_alt >= 0) {
+      // A minimal model of another basin than the best, within alt_basin_lo_margin of the best minimal score: its
+      // basin may hold the better optimum (far points: minimal models of the right basin are noisy and can score
+      // a few percent worse than a lucky one of the wrong basin, and would then never be optimised).
+      // Before the first local optimisation it waits for it (see optimize_pending_alt).
+      alt_min_score = local_alt_score;
+      if (lo_started) {
+        optimize_and_compete(models[local_alt], local_alt_score, kind == MinimalSolverKind::kPoint);
+        update_termination();
+      } else {
+        pending_alt = models[local_alt];
+        pending_alt_score = local_alt_score;
+        pending_alt_from_points = kind == MinimalSolverKind::kPoint;
+      }
+      continue;
     }
     if (local_best < 0) continue;
     best_min = models[local_best];
@@ -384,7 +426,10 @@ HybridEstimate Engine::Run() {
     }
     update_termination();
   }
-  if (!lo_started && have_best) optimize_and_compete(best_min, best_min_model_score, best_min_from_points);
+  if (!lo_started && have_best) {
+    optimize_and_compete(best_min, best_min_model_score, best_min_from_points);
+    optimize_pending_alt();
+  }
   result.iterations = it;
 
   if (have_best) {

@@ -168,6 +168,9 @@ TEST(HybridEstimatorOptions, CheckRejectsBadValues) {
   o.solvers = SolverChoice::kDepthOnly;
   o.scoring = ScoringMode::kSampsonOnly;
   EXPECT_THROW(o.Check(), std::invalid_argument);
+  o = HybridEstimatorOptions();
+  o.alt_basin_lo_margin = -0.1;
+  EXPECT_THROW(o.Check(), std::invalid_argument);
 }
 
 }  // namespace
