@@ -28,7 +28,8 @@ namespace {
   X(reproj_threshold) X(epipolar_threshold) X(sampson_weight) X(solvers) X(scoring) X(estimate_shift)            \
   X(sampson_cheirality) X(cheirality_min_parallax) X(min_iterations) X(max_iterations) X(confidence) X(num_lo_steps) X(num_lo_lsq_steps)    \
   X(lo_threshold_multiplier) X(lo_inner_sample_multiplier) X(lo_lsq_sample_size) X(lo_starting_iterations)      \
-  X(alt_basin_lo_margin) X(lo_max_lm_iterations) X(final_refinement) X(final_max_lm_iterations) X(final_reprojection_weight)           \
+  X(alt_basin_lo_margin) X(lo_max_lm_iterations) X(final_refinement) X(final_max_lm_iterations)                \
+  X(final_reprojection_weight)                                                                                   \
   X(epipolar_check_ratio) X(max_shift_ratio) X(final_depth_fit) X(depth_fit_regression) X(max_depth_sigma) X(seed)
 
 const char* SolverChoiceName(SolverChoice c) {
