@@ -53,6 +53,8 @@ struct EstimatorFlags {
     parser->AddDefault("alt_basin_lo_margin", &options.alt_basin_lo_margin,
                        "A minimal model of another basin within this fraction of the best minimal score is locally "
                        "optimised too (0: off).");
+    parser->AddDefault("retry_depth_less", &options.retry_depth_less,
+                       "Hybrid: search once more when the result has almost no depth inliers (1) or not (0).");
     parser->AddDefault("max_shift_ratio", &options.max_shift_ratio,
                        "Bound of |shift| in median priors of its view (0: unbounded).");
     parser->AddDefault("final_depth_fit", &options.final_depth_fit,

@@ -289,7 +289,7 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/"
     << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.alt_basin_lo_margin
     << ";final=" << e.final_refinement << "/" << e.final_max_lm_iterations << "/" << e.final_reprojection_weight
-    << ";check=" << e.epipolar_check_ratio
+    << ";check=" << e.epipolar_check_ratio << "/" << e.retry_depth_less
     << ";depth_fit=" << e.max_shift_ratio << "/" << e.final_depth_fit << "/" << e.depth_fit_regression << "/"
     << e.max_depth_sigma << ";seed=" << e.seed;
   return s.str();

@@ -91,6 +91,11 @@ struct HybridEstimatorOptions {
   // doubles the cost of a calibrated pair; docs/benchmarks.md).
   double epipolar_check_ratio = 0.0;
 
+  // Hybrid: a result with depth inliers below 5% of its epipolar inliers, on a pair where most matches have priors,
+  // is searched once more with a seed derived from `seed`; the lower score wins (on the held-out hard pairs every such
+  // result was a wrong basin; docs/benchmarks.md section 11).
+  bool retry_depth_less = true;
+
   // Bound of the shifts: |shift_i| <= max_shift_ratio x the median prior of view i (0: unbounded). A shift of many
   // times the depths themselves flattens the corrected depth map; it only ever appears where the depths are not
   // determined.

@@ -335,6 +335,7 @@ TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
       {"final_max_lm_iterations", [](HybridEstimatorOptions* e) { e->final_max_lm_iterations += 1; }},
       {"final_reprojection_weight", [](HybridEstimatorOptions* e) { e->final_reprojection_weight = 0.5; }},
       {"epipolar_check_ratio", [](HybridEstimatorOptions* e) { e->epipolar_check_ratio = 1.5; }},
+      {"retry_depth_less", [](HybridEstimatorOptions* e) { e->retry_depth_less = !e->retry_depth_less; }},
       {"max_shift_ratio", [](HybridEstimatorOptions* e) { e->max_shift_ratio += 1; }},
       {"final_depth_fit", [](HybridEstimatorOptions* e) { e->final_depth_fit = !e->final_depth_fit; }},
       {"depth_fit_regression", [](HybridEstimatorOptions* e) { e->depth_fit_regression = !e->depth_fit_regression; }},
