@@ -278,8 +278,9 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version ("madsfm-3": the search also optimises minimal models of other
-  // basins) changes with the estimator's results, so pairs done by an older madsfm are estimated again.
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-3": other basins'
+  // minimal models optimised, depth-less results searched again), so pairs done by an older madsfm are estimated
+  // again.
   s << "madsfm-3;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)

@@ -514,19 +514,14 @@ HybridEstimate EstimateHybridRelpose(const RelposeProblem& problem, const Hybrid
     HybridEstimatorOptions again = options;
     again.seed = options.seed ^ 0x9E3779B97F4A7C15ull;
     Engine second(problem, again);
-    HybridEstimate retry = second.Run();
-    retry.iterations += result.iterations;
-    retry.num_lo += result.num_lo;
-    retry.num_depth_samples += result.num_depth_samples;
-    retry.num_point_samples += result.num_point_samples;
-    if (retry.success && retry.score < result.score) {
-      result = retry;
-    } else {
-      result.iterations = retry.iterations;
-      result.num_lo = retry.num_lo;
-      result.num_depth_samples = retry.num_depth_samples;
-      result.num_point_samples = retry.num_point_samples;
-    }
+    const HybridEstimate first = result;
+    const HybridEstimate retry = second.Run();
+    if (retry.success && retry.score < first.score) result = retry;
+    // The work of both searches.
+    result.iterations = first.iterations + retry.iterations;
+    result.num_lo = first.num_lo + retry.num_lo;
+    result.num_depth_samples = first.num_depth_samples + retry.num_depth_samples;
+    result.num_point_samples = first.num_point_samples + retry.num_point_samples;
   }
   const bool check = options.epipolar_check_ratio > 0 && problem.mode == CameraMode::kCalibrated &&
                      options.solvers == SolverChoice::kHybrid && options.scoring == ScoringMode::kHybrid &&
