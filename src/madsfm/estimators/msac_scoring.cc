@@ -61,18 +61,19 @@ double Score(const RelposeProblem& p, const AffineDepthPose& model, const MsacWe
     if (w.use_reprojection) {
       // NaN priors (no depth) are skipped: they are not data of the reprojection types.
       if (d0[i] == d0[i]) {
-        const double e = res.Reprojection01(p.x0[i], p.x1[i], d0[i]);
+        const double e = res.Reprojection01(p.x0[i], p.x1[i], d0[i], w.reproj_sq);
         if (kCount) c += e < w.reproj_sq;
         score += std::min(e, w.reproj_sq);
       }
       if (d1[i] == d1[i]) {
-        const double e = res.Reprojection10(p.x0[i], p.x1[i], d1[i]);
+        const double e = res.Reprojection10(p.x0[i], p.x1[i], d1[i], w.reproj_sq);
         if (kCount) c += e < w.reproj_sq;
         score += std::min(e, w.reproj_sq);
       }
     }
     if (w.use_sampson) {
-      const double e = w.cheirality ? res.SampsonCheiral(p.x0[i], p.x1[i]) : res.Sampson(p.x0[i], p.x1[i]);
+      const double e = w.cheirality ? res.SampsonCheiral(p.x0[i], p.x1[i], w.sampson_sq)
+                                     : res.Sampson(p.x0[i], p.x1[i], w.sampson_sq);
       if (kCount) c += e < w.sampson_sq;
       score += w.sampson_weight * std::min(e, w.sampson_sq);
     }
@@ -101,11 +102,13 @@ void ComputeInliers(const RelposeProblem& p, const AffineDepthPose& model, const
   in->sampson.clear();
   for (int i = 0; i < p.size(); ++i) {
     if (w.use_reprojection) {
-      if (p.d0[i] == p.d0[i] && res.Reprojection01(p.x0[i], p.x1[i], p.d0[i]) < w.reproj_sq) in->reproj0.push_back(i);
-      if (p.d1[i] == p.d1[i] && res.Reprojection10(p.x0[i], p.x1[i], p.d1[i]) < w.reproj_sq) in->reproj1.push_back(i);
+      const double cap = w.reproj_sq;
+      if (p.d0[i] == p.d0[i] && res.Reprojection01(p.x0[i], p.x1[i], p.d0[i], cap) < cap) in->reproj0.push_back(i);
+      if (p.d1[i] == p.d1[i] && res.Reprojection10(p.x0[i], p.x1[i], p.d1[i], cap) < cap) in->reproj1.push_back(i);
     }
     if (w.use_sampson) {
-      const double e = w.cheirality ? res.SampsonCheiral(p.x0[i], p.x1[i]) : res.Sampson(p.x0[i], p.x1[i]);
+      const double e = w.cheirality ? res.SampsonCheiral(p.x0[i], p.x1[i], w.sampson_sq)
+                                     : res.Sampson(p.x0[i], p.x1[i], w.sampson_sq);
       if (e < w.sampson_sq) in->sampson.push_back(i);
     }
   }

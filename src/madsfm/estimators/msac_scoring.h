@@ -23,22 +23,27 @@ class ModelResiduals {
                  double parallel_sin2 = kParallelSin2);
 
   // Lift x0 with the corrected prior d0 and reproject into view 1.
-  double Reprojection01(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1, double d0) const {
+  // With `cap`, an error of at least cap may be returned as cap (see Sampson).
+  double Reprojection01(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1, double d0,
+                        double cap = std::numeric_limits<double>::infinity()) const {
     const double z0 = d0 + shift0_;
     if (!(z0 > 0.0)) return kInvalidError;
     const Eigen::Vector3d X1 = z0 * (R_ * Eigen::Vector3d(x0.x() * inv_f0_, x0.y() * inv_f0_, 1.0)) + t_;
     if (!(X1.z() > 0.0)) return kInvalidError;
+    if (BeyondCap(X1, f1_, x1, pixel_scale1_sq_, cap)) return cap;
     const double s = f1_ / X1.z();
     const double ex = X1.x() * s - x1.x(), ey = X1.y() * s - x1.y();
     return (ex * ex + ey * ey) * pixel_scale1_sq_;
   }
 
   // Lift x1 with the corrected prior d1 and reproject into view 0.
-  double Reprojection10(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1, double d1) const {
+  double Reprojection10(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1, double d1,
+                        double cap = std::numeric_limits<double>::infinity()) const {
     const double z1 = scale_ * (d1 + shift1_);
     if (!(z1 > 0.0)) return kInvalidError;
     const Eigen::Vector3d X0 = z1 * (Rt_ * Eigen::Vector3d(x1.x() * inv_f1_, x1.y() * inv_f1_, 1.0)) + tt_;
     if (!(X0.z() > 0.0)) return kInvalidError;
+    if (BeyondCap(X0, f0_, x0, pixel_scale0_sq_, cap)) return cap;
     const double s = f0_ / X0.z();
     const double ex = X0.x() * s - x0.x(), ey = X0.y() * s - x0.y();
     return (ex * ex + ey * ey) * pixel_scale0_sq_;
@@ -48,7 +53,13 @@ class ModelResiduals {
   // not nearly parallel (sin^2 of the angle between them above parallel_sin2): the Sampson error cannot tell
   // the four decompositions of an essential matrix apart, cheirality can. Nearly parallel rays (points near
   // infinity, whose depth sign is noise) are not judged.
-  double SampsonCheiral(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1) const {
+  // An error of at least `cap` is returned as some value >= cap, neither divided out nor judged: a caller that
+  // caps errors at a threshold gets the same capped value and the same inliers, without the division and the
+  // cheirality test for every outlier (the hot path of the search).
+  double SampsonCheiral(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1,
+                        double cap = std::numeric_limits<double>::infinity()) const {
+    const double sampson = Sampson(x0, x1, cap);
+    if (!(sampson < cap)) return sampson;
     const Eigen::Vector3d v1(x1.x() * inv_f1_, x1.y() * inv_f1_, 1.0);
     const Eigen::Vector3d Rv0 = R_ * Eigen::Vector3d(x0.x() * inv_f0_, x0.y() * inv_f0_, 1.0);
     const double a = v1.squaredNorm(), b = v1.dot(Rv0), c = Rv0.squaredNorm();
@@ -56,21 +67,37 @@ class ModelResiduals {
     // lambda1 v1 - lambda0 R v0 = t in the least-squares sense; both numerators carry the sign (det >= 0).
     const double num1 = c * e - b * g, num0 = b * e - a * g;
     if ((num1 < 0.0 || num0 < 0.0) && a * c - b * b > parallel_sin2_ * a * c) return kInvalidError;
-    return Sampson(x0, x1);
+    return sampson;
   }
   static constexpr double kParallelSin2 = 1e-6;  // rays within ~0.06 deg of each other (the least judged)
 
-  // Squared Sampson error.
-  double Sampson(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1) const {
+  // Squared Sampson error; with `cap`, an error of at least cap is returned as cap (see SampsonCheiral).
+  double Sampson(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1,
+                 double cap = std::numeric_limits<double>::infinity()) const {
     const Eigen::Vector3d Fx0 = F_.col(0) * x0.x() + F_.col(1) * x0.y() + F_.col(2);
     const Eigen::Vector3d Ftx1 = Ft_.col(0) * x1.x() + Ft_.col(1) * x1.y() + Ft_.col(2);
     const double c = x1.x() * Fx0.x() + x1.y() * Fx0.y() + Fx0.z();
     const double denom = Fx0.x() * Fx0.x() + Fx0.y() * Fx0.y() + Ftx1.x() * Ftx1.x() + Ftx1.y() * Ftx1.y();
+    // c^2 / denom * s >= cap without the division: the margin covers the rounding of both sides (a few ulps), so
+    // the division below gives >= cap too whenever this holds, and capped values and inliers are unchanged.
+    // (With cap = inf the test is false, or NaN for denom = 0: the exact path.)
+    if (c * c * pixel_scale01_ >= cap * denom * kSampsonCapMargin) return cap;
     if (!(denom > 0.0)) return kInvalidError;
     return c * c / denom * pixel_scale01_;
   }
 
  private:
+  // Whether the squared reprojection error of X (z > 0) against x is certainly at least cap, tested without the
+  // division by z: ((X.x f - x z)^2 + (X.y f - y z)^2) s >= cap z^2. The two forms differ by rounding only, a
+  // relative 1e-11 at most for image coordinates below 1e4 thresholds; kReprojCapMargin covers it many times
+  // over, so errors of the exact path below the cap are never cut.
+  static bool BeyondCap(const Eigen::Vector3d& X, double f, const Eigen::Vector2d& x, double s, double cap) {
+    const double ex = X.x() * f - x.x() * X.z(), ey = X.y() * f - x.y() * X.z();
+    return (ex * ex + ey * ey) * s >= cap * (X.z() * X.z()) * kReprojCapMargin;
+  }
+  static constexpr double kSampsonCapMargin = 1.0 + 1e-12;
+  static constexpr double kReprojCapMargin = 1.0 + 1e-6;
+
   Eigen::Matrix3d R_, Rt_, F_, Ft_;
   Eigen::Vector3d t_, tt_;
   double shift0_, shift1_, scale_, f0_, f1_, inv_f0_, inv_f1_;

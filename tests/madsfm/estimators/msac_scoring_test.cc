@@ -1,10 +1,13 @@
 // The MSAC scoring of the estimator's hot path: the counting variant agrees with ScoreModel and ComputeInliers and
 // only stops early when neither its score nor its count can win; the cheirality of Sampson data is judged only
-// beyond the noise-aware parallax.
+// beyond the noise-aware parallax; errors computed against a cap (the search's shortcut) agree with the exact ones
+// wherever the cap matters.
 #include "madsfm/estimators/msac_scoring.h"
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -86,6 +89,54 @@ TEST(ModelResiduals, CheiralityIsJudgedOnlyBeyondTheParallelTolerance) {
   // A point in front (rays meeting at z = +10) is never rejected.
   const Eigen::Vector2d x1_front(-0.1, 0.0);
   EXPECT_EQ(judged.SampsonCheiral(x0, x1_front), judged.Sampson(x0, x1_front));
+}
+
+// The capped errors of the search (no division, no cheirality test for errors at or above the cap) against the
+// exact ones, on the true model and on perturbed ones, at caps placed exactly at and one ulp above every exact
+// error: the comparison with the cap and the capped value agree in every case.
+TEST(ModelResiduals, CappedErrorsAgreeWithExactOnesAtTheCap) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n(0.0, 1.0);
+  int exact_below_cap = 0, checked = 0;
+  for (int trial = 0; trial < 10; ++trial) {
+    testing::SolverInstance inst;
+    const RelposeProblem p = NoisyProblem(rng, &inst);
+    for (int k = 0; k < 5; ++k) {
+      AffineDepthPose m = inst.gt;
+      if (k > 0) {  // rotation, translation and depth corrections off by a few percent
+        const Eigen::Vector3d w(0.02 * k * n(rng), 0.02 * k * n(rng), 0.02 * k * n(rng));
+        m.R = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * m.R;
+        m.t += 0.05 * k * Eigen::Vector3d(n(rng), n(rng), n(rng));
+        m.shift0 += 0.02 * k * n(rng);
+        m.shift1 += 0.02 * k * n(rng);
+        m.scale *= 1.0 + 0.02 * k * n(rng);
+      }
+      const ModelResiduals res(m, p.pixel_scale0, p.pixel_scale1, 1e-6);
+      for (int i = 0; i < p.size(); ++i) {
+        const double exact[4] = {res.Sampson(p.x0[i], p.x1[i]), res.SampsonCheiral(p.x0[i], p.x1[i]),
+                                 res.Reprojection01(p.x0[i], p.x1[i], p.d0[i]),
+                                 res.Reprojection10(p.x0[i], p.x1[i], p.d1[i])};
+        for (int j = 0; j < 4; ++j) {
+          if (!(exact[j] > 0.0) || exact[j] == ModelResiduals::kInvalidError) continue;
+          for (const double cap : {exact[j], std::nextafter(exact[j], 2.0 * exact[j]), 0.5 * exact[j],
+                                   2.0 * exact[j], 64.0, 4.0}) {
+            double capped = 0.0;
+            if (j == 0) capped = res.Sampson(p.x0[i], p.x1[i], cap);
+            if (j == 1) capped = res.SampsonCheiral(p.x0[i], p.x1[i], cap);
+            if (j == 2) capped = res.Reprojection01(p.x0[i], p.x1[i], p.d0[i], cap);
+            if (j == 3) capped = res.Reprojection10(p.x0[i], p.x1[i], p.d1[i], cap);
+            ASSERT_EQ(capped < cap, exact[j] < cap) << "error " << j << " point " << i << " cap " << cap;
+            ASSERT_EQ(std::min(capped, cap), std::min(exact[j], cap)) << "error " << j << " point " << i;
+            exact_below_cap += exact[j] < cap;
+            ++checked;
+          }
+        }
+      }
+    }
+  }
+  // Both sides of the cap were exercised, many times.
+  EXPECT_GT(exact_below_cap, checked / 10);
+  EXPECT_LT(exact_below_cap, checked - checked / 10);
 }
 
 }  // namespace
