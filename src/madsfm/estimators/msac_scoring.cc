@@ -44,6 +44,13 @@ double MsacWeights::ParallelSin2(double focal_px0, double focal_px1) const {
 
 namespace {
 
+// The error of correspondence i as Sampson data (with cheirality when the weights ask for it), capped at the
+// Sampson threshold: exact below it, some value >= it above.
+double CappedSampsonError(const ModelResiduals& res, const RelposeProblem& p, int i, const MsacWeights& w) {
+  return w.cheirality ? res.SampsonCheiral(p.x0[i], p.x1[i], w.sampson_sq)
+                      : res.Sampson(p.x0[i], p.x1[i], w.sampson_sq);
+}
+
 // The score of ScoreModel; with kCount also the inliers (into *count), and then an early stop needs, besides the
 // score above stop_above, a count that can no longer exceed min_count.
 template <bool kCount>
@@ -72,8 +79,7 @@ double Score(const RelposeProblem& p, const AffineDepthPose& model, const MsacWe
       }
     }
     if (w.use_sampson) {
-      const double e = w.cheirality ? res.SampsonCheiral(p.x0[i], p.x1[i], w.sampson_sq)
-                                     : res.Sampson(p.x0[i], p.x1[i], w.sampson_sq);
+      const double e = CappedSampsonError(res, p, i, w);
       if (kCount) c += e < w.sampson_sq;
       score += w.sampson_weight * std::min(e, w.sampson_sq);
     }
@@ -107,9 +113,7 @@ void ComputeInliers(const RelposeProblem& p, const AffineDepthPose& model, const
       if (p.d1[i] == p.d1[i] && res.Reprojection10(p.x0[i], p.x1[i], p.d1[i], cap) < cap) in->reproj1.push_back(i);
     }
     if (w.use_sampson) {
-      const double e = w.cheirality ? res.SampsonCheiral(p.x0[i], p.x1[i], w.sampson_sq)
-                                     : res.Sampson(p.x0[i], p.x1[i], w.sampson_sq);
-      if (e < w.sampson_sq) in->sampson.push_back(i);
+      if (CappedSampsonError(res, p, i, w) < w.sampson_sq) in->sampson.push_back(i);
     }
   }
 }
