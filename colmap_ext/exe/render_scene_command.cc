@@ -30,8 +30,10 @@ int RunRenderScene(int argc, char** argv) {
   parser.AddDefault("fov_deg", &fov_deg, "Horizontal field of view in degrees (0: drawn in [60, 70] from the seed).");
   parser.AddDefault("motion", &motion,
                     "Camera motion (room): arc (60 deg around the target), sideways (a straight walk across the view\n"
-                    "      of baseline_fraction x the distance), handheld (centres in a ball of that diameter).");
-  parser.AddDefault("baseline_fraction", &baseline_fraction, "sideways / handheld: path length / distance to target.");
+                    "of baseline_fraction x the distance), handheld (centres in a ball of that diameter), forward (a\n"
+                    "straight walk of that length towards the target, looking along it).");
+  parser.AddDefault("baseline_fraction", &baseline_fraction,
+                    "sideways / handheld / forward: path length / distance to target.");
   parser.AddDefault("per_image_fov_min", &per_image_fov_min,
                     "per_image_fov_max > 0: each image has its own focal (horizontal FOV in [min, max] deg).");
   parser.AddDefault("per_image_fov_max", &per_image_fov_max, "See per_image_fov_min.");
@@ -54,8 +56,10 @@ int RunRenderScene(int argc, char** argv) {
       options.motion = MultiViewMotion::kSideways;
     } else if (motion == "handheld") {
       options.motion = MultiViewMotion::kHandheld;
+    } else if (motion == "forward") {
+      options.motion = MultiViewMotion::kForward;
     } else {
-      throw std::invalid_argument("unknown --motion '" + motion + "' (arc, sideways or handheld)");
+      throw std::invalid_argument("unknown --motion '" + motion + "' (arc, sideways, handheld or forward)");
     }
     options.baseline_fraction = baseline_fraction;
     options.per_image_fov_min_deg = per_image_fov_min;

@@ -3,9 +3,9 @@
 //
 // In: --output_path DIR (required), --num_images N (default 10), --seed S (default 0), --scene room|street
 // (default room), --image_width/--image_height (640 x 480), --fov_deg (0 = drawn in [60, 70] from the seed),
-// --prior_distortion (0.03), --motion arc|sideways|handheld with --baseline_fraction (0.08), --per_image_fov_min /
-// --per_image_fov_max (0: one shared focal). Parses the options and calls colmap::WriteRenderedProject
-// (colmap_ext/synthetic/rendered_project.h). Out, under DIR:
+// --prior_distortion (0.03), --motion arc|sideways|handheld|forward with --baseline_fraction (0.08),
+// --per_image_fov_min / --per_image_fov_max (0: one shared focal). Parses the options and calls
+// colmap::WriteRenderedProject (colmap_ext/synthetic/rendered_project.h). Out, under DIR:
 //   images/img_000.png ...             the RGB images (8-bit PNG)
 //   depths/img_000.png.npy ...         the monocular-depth-like priors (float32, half resolution; the sidecar
 //                                      name convention <image name>.npy of docs/design.md section 5)

@@ -24,7 +24,7 @@ int RunTwoViewEstimator(int argc, char** argv) {
                     "Folder of depth sidecars: <image name>.npy / .pfm / .geometric.bin ... (docs/formats.md).");
   parser.AddDefault("camera_mode", &o.camera_mode,
                     "auto | calibrated | shared_focal | two_focal. auto: calibrated if both cameras have a focal\n"
-                    "      prior, shared_focal if both images use one camera, else two_focal.");
+                    "prior, shared_focal if both images use one camera, else two_focal.");
   parser.AddDefault("depth_type", &o.depth_type, "depth | disparity (disparity maps are inverted first).");
   parser.AddDefault("pair_list", &o.pair_list, "Optional file of 'name1 name2' lines: only these pairs.");
   parser.AddDefault("num_threads", &o.num_threads, "Threads (-1: all cores).");
@@ -37,7 +37,7 @@ int RunTwoViewEstimator(int argc, char** argv) {
   parser.AddDefault("shard_index", &o.shard_index, "Which shard this run estimates, 0 ... num_shards - 1.");
   parser.AddDefault("shard_path", &o.shard_path,
                     "Shard file (SQLite) to write instead of the database, which is then only read; a rerun\n"
-                    "      resumes it. Merge the shards with `madsfm merge_shards`.");
+                    "resumes it. Merge the shards with `madsfm merge_shards`.");
   parser.AddDefault("progress", &o.progress, "Print progress to stderr.");
   parser.AddDefault("reproj_threshold", &o.estimator.reproj_threshold,
                     "Reprojection inlier threshold, px (paper: 8 indoor ~640 px images, 16 outdoor/large).");

@@ -28,6 +28,8 @@ for seed in "${SEEDS[@]}"; do
   run handheld -- --num_images 5 --motion handheld --baseline_fraction 0.06 "${SIZE[@]}"
   run wide_angle_per_image SINGLE_CAMERA=0 -- --num_images 8 --per_image_fov_min 85 --per_image_fov_max 100 "${SIZE[@]}"
   run outliers_70 OUTLIER_RATIO=0.7 -- --num_images 8 "${SIZE[@]}"
+  run forward_walk -- --num_images 8 --motion forward --baseline_fraction 0.2 "${SIZE[@]}"
+  run forward_walk_short -- --num_images 8 --motion forward --baseline_fraction 0.1 "${SIZE[@]}"
 done
 echo "| scene | plain registered | plain rot err (deg) | plain focal err | plain time (s) | madsfm registered | madsfm rot err (deg) | madsfm focal err | madsfm time (s) |"
 echo "|---|---|---|---|---|---|---|---|---|"

@@ -500,6 +500,19 @@ void BuildRoom(Rng& rng, int num_images, double focal, int width, int height, Mu
     }
     return;
   }
+  if (motion == MultiViewMotion::kForward) {
+    // A level walk along +y towards the target from the arc's middle position, heading along it (pitched as kSideways).
+    const double length = baseline_fraction * radius, z = rng.Uniform(1.45, 1.65);
+    for (int i = 0; i < num_images; ++i) {
+      const double y = target.y() - radius + length * i / (num_images - 1);
+      const Eigen::Vector3d C(target.x() + rng.Uniform(-0.02, 0.02) * length, y,
+                              z + rng.Uniform(-0.02, 0.02) * length);
+      const double yaw = DegToRad(rng.Uniform(-1.0, 1.0)), pitch = DegToRad(rng.Uniform(-1.0, 1.0));
+      const Eigen::Vector3d dir(std::sin(yaw), std::cos(yaw), std::tan(pitch) + (target.z() - z) / radius);
+      cameras->push_back(LookAt(C, C + dir, DegToRad(rng.Uniform(-1.0, 1.0)), focal, width, height));
+    }
+    return;
+  }
   if (motion == MultiViewMotion::kHandheld) {
     const Eigen::Vector3d centre(target.x(), target.y() - radius, rng.Uniform(1.45, 1.65));
     const double r = 0.5 * baseline_fraction * radius;
@@ -620,7 +633,7 @@ void MultiViewSceneOptions::Check() const {
     fail("prior_max_shift_fraction must be in [0, 1)");
   if (num_threads < 0) fail("num_threads must be >= 0");
   if (motion != MultiViewMotion::kArc && scene != MultiViewSceneType::kRoom)
-    fail("motion sideways / handheld needs the room scene");
+    fail("motion sideways / handheld / forward needs the room scene");
   if (!(baseline_fraction > 0.0 && baseline_fraction <= 1.0)) fail("baseline_fraction must be in (0, 1]");
   if (!(per_image_fov_min_deg == 0.0 && per_image_fov_max_deg == 0.0) &&
       !(per_image_fov_min_deg >= 10.0 && per_image_fov_max_deg >= per_image_fov_min_deg &&
@@ -645,7 +658,17 @@ const char* MultiViewSceneTypeName(MultiViewSceneType type) {
 }
 
 const char* MultiViewMotionName(MultiViewMotion motion) {
-  return motion == MultiViewMotion::kArc ? "arc" : motion == MultiViewMotion::kSideways ? "sideways" : "handheld";
+  switch (motion) {
+    case MultiViewMotion::kArc:
+      return "arc";
+    case MultiViewMotion::kSideways:
+      return "sideways";
+    case MultiViewMotion::kHandheld:
+      return "handheld";
+    case MultiViewMotion::kForward:
+      return "forward";
+  }
+  return "unknown";
 }
 
 struct MultiViewScene::Impl {

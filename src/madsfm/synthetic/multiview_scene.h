@@ -60,7 +60,11 @@ enum class MultiViewSceneType { kRoom, kStreet };
 //    looking the same way (+-1 degree jitter); the whole path is baseline_fraction x d long (low parallax: 0.05-0.1).
 //  * kHandheld: small hand-held motion: camera centres uniform in a ball of radius baseline_fraction x d / 2 around
 //    the arc's middle position, each aimed at the target with up to 3 degrees of aim jitter and 5 degrees of roll.
-enum class MultiViewMotion { kArc, kSideways, kHandheld };
+//  * kForward: a straight, level walk towards the target from the arc's middle position, all cameras heading along
+//    the walk (+-1 degree jitter) and pitched towards the target's height (a few degrees down); the path is
+//    baseline_fraction x d long (0.1-0.3: the epipoles are in the images and most points have small triangulation
+//    angles).
+enum class MultiViewMotion { kArc, kSideways, kHandheld, kForward };
 
 struct MultiViewSceneOptions {
   MultiViewSceneType scene = MultiViewSceneType::kRoom;
@@ -70,7 +74,7 @@ struct MultiViewSceneOptions {
   // Horizontal field of view in degrees; 0 draws it uniformly in [60, 70] from the seed.
   double fov_deg = 0.0;
   MultiViewMotion motion = MultiViewMotion::kArc;
-  double baseline_fraction = 0.08;  // kSideways, kHandheld: see MultiViewMotion
+  double baseline_fraction = 0.08;  // kSideways, kHandheld, kForward: see MultiViewMotion
   // > 0: every image has its own focal length, from a horizontal field of view drawn uniformly in
   // [per_image_fov_min_deg, per_image_fov_max_deg] (a separate random stream: the scene and poses do not change).
   double per_image_fov_min_deg = 0.0;
@@ -153,6 +157,6 @@ class MultiViewScene {
 };
 
 const char* MultiViewSceneTypeName(MultiViewSceneType type);  // "room", "street"
-const char* MultiViewMotionName(MultiViewMotion motion);      // "arc", "sideways", "handheld"
+const char* MultiViewMotionName(MultiViewMotion motion);      // "arc", "sideways", "handheld", "forward"
 
 }  // namespace madsfm

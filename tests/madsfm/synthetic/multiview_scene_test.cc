@@ -377,12 +377,47 @@ TEST(MultiViewScene, SidewaysHandheldAndPerImageFocal) {
   }
   MultiViewSceneOptions bad;
   bad.scene = MultiViewSceneType::kStreet;
+  bad.motion = MultiViewMotion::kForward;
+  EXPECT_THROW(bad.Check(), std::invalid_argument);
   bad.motion = MultiViewMotion::kSideways;
   EXPECT_THROW(bad.Check(), std::invalid_argument);
   bad = MultiViewSceneOptions();
   bad.per_image_fov_min_deg = 90.0;
   bad.per_image_fov_max_deg = 80.0;
   EXPECT_THROW(bad.Check(), std::invalid_argument);
+}
+
+// Forward motion: a straight walk of baseline_fraction x the distance along the viewing direction, so that the
+// epipole of every pair lies near the image centre and the points ahead have small triangulation angles.
+TEST(MultiViewScene, ForwardWalkLooksAlongItsPath) {
+  for (uint64_t seed : {0, 1, 2}) {
+    MultiViewSceneOptions o = SmallOptions(MultiViewSceneType::kRoom, 160, 120);
+    o.num_images = 8;
+    o.motion = MultiViewMotion::kForward;
+    o.baseline_fraction = 0.2;
+    const MultiViewScene walk(o, seed);
+    const Eigen::Vector3d c0 = walk.Camera(0).Center(), c7 = walk.Camera(7).Center();
+    const double length = (c7 - c0).norm();  // 0.2 x the distance to the target, which is drawn in [3.3, 3.7] m
+    EXPECT_GT(length, 0.2 * 3.3 * 0.95);
+    EXPECT_LT(length, 0.2 * 3.7 * 1.05);
+    for (int i = 0; i < 8; ++i) {
+      const MultiViewCamera& cam = walk.Camera(i);
+      // The end of the walk seen from camera i (i < 7) or its start seen from camera 7: the epipole of the pair.
+      const Eigen::Vector3d other = i < 7 ? c7 : c0;
+      const Eigen::Vector3d dir = (i < 7 ? 1.0 : -1.0) * (other - cam.Center()).normalized();
+      const Eigen::Vector3d axis = cam.R.row(2).transpose();
+      // Heading along the walk (within the +-1 degree jitter); the pitch towards the target's height (about 8
+      // degrees down) keeps the epipole in the upper half of the image.
+      const Eigen::Vector3d along = (c7 - c0).normalized();
+      const Eigen::Vector2d heading = axis.head<2>().normalized(), path = along.head<2>().normalized();
+      EXPECT_LT(std::acos(std::clamp(heading.dot(path), -1.0, 1.0)) * 180.0 / M_PI, 3.0) << "camera " << i;
+      EXPECT_LT(std::acos(std::clamp(axis.dot(along), -1.0, 1.0)) * 180.0 / M_PI, 15.0) << "camera " << i;
+      Eigen::Vector2d epipole;
+      double depth = 0.0;
+      ASSERT_TRUE(cam.Project(cam.Center() + dir, &epipole, &depth));
+      EXPECT_TRUE(cam.InImage(epipole)) << "camera " << i << ": " << epipole.transpose();
+    }
+  }
 }
 
 }  // namespace
