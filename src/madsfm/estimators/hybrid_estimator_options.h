@@ -82,6 +82,9 @@ struct HybridEstimatorOptions {
   // and shifts to it. Monocular depth is biased (non-affine distortion) while good matches are not,
   // so this wins wherever the epipolar geometry is well conditioned; docs/benchmarks.md measures it.
   double final_reprojection_weight = 0.0;
+  // Focal modes, before that last refinement: the focal lengths (and pose) of the epipolar inliers alone are taken
+  // where their relative Gauss-Newton standard deviation is at most this (0: never; Engine::TakeEpipolarFocal).
+  double epipolar_focal_max_sigma = 0.01;
 
   // Calibrated hybrid only: a point-only LO-MSAC run (5pt, Sampson score) competes with the hybrid
   // result; if it finds at least this many times the hybrid model's epipolar inliers, the depth priors

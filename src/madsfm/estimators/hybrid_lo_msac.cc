@@ -73,6 +73,7 @@ class Engine {
   bool Refine(AffineDepthPose* model, const InlierSets& inliers, int max_iterations);
   void FitDepthCorrections(AffineDepthPose* model, double* score, HybridEstimate* result);
   void LeanOnEpipolarEvidence(AffineDepthPose* model, double* score);
+  void TakeEpipolarFocal(AffineDepthPose* model, double* score);
 
   const RelposeProblem& p_;
   const HybridEstimatorOptions& o_;
@@ -163,6 +164,7 @@ void Engine::FitDepthCorrections(AffineDepthPose* model, double* score, HybridEs
 // Levenberg-Marquardt starts at the joint estimate, so directions the epipolar cost leaves flat
 // (small baselines) stay close to it.
 void Engine::LeanOnEpipolarEvidence(AffineDepthPose* model, double* score) {
+  if (o_.epipolar_focal_max_sigma > 0.0 && p_.mode != CameraMode::kCalibrated) TakeEpipolarFocal(model, score);
   const bool epipolar_only = o_.final_reprojection_weight == 0.0;
   RelposeRefinerOptions ro;
   ro.max_iterations = o_.final_max_lm_iterations;
@@ -187,6 +189,33 @@ void Engine::LeanOnEpipolarEvidence(AffineDepthPose* model, double* score) {
     inliers_ = check;
     if (same_inliers) return;
   }
+}
+
+// Focal modes: the focal lengths of the epipolar geometry alone, where it determines them. The joint estimate takes
+// its focal lengths from the depth priors as much as from the matches, and a smooth distortion of the priors (a
+// few percent) shifts them by about as much, whereas accurate matches over a well-spread baseline pin them to a
+// fraction of a percent. So the pose and focal lengths are refined on the Sampson inliers alone, starting at the
+// joint estimate, and taken when the Gauss-Newton standard deviation of every focal length is at most
+// epipolar_focal_max_sigma (relative) and >= 95% of the epipolar inliers remain; elsewhere (small baselines,
+// forward motion, noisy matches: a flat epipolar cost) the depth priors keep setting them.
+void Engine::TakeEpipolarFocal(AffineDepthPose* model, double* score) {
+  RelposeRefinerOptions ro = RefinerOptions(o_.final_max_lm_iterations);
+  ro.reprojection_weight = 0.0;
+  ro.refine_focal = true;
+  const std::vector<int> none;
+  AffineDepthPose refined = *model;
+  RelposeRefinerSummary sum;
+  if (!RefineRelpose(p_, none, none, inliers_.sampson, ro, &refined, &sum)) return;
+  const double rel0 = sum.sigma_f0 / refined.f0;
+  const double rel1 = p_.mode == CameraMode::kTwoFocal ? sum.sigma_f1 / refined.f1 : 0.0;
+  if (!(rel0 <= o_.epipolar_focal_max_sigma && rel1 <= o_.epipolar_focal_max_sigma)) return;
+  FitDepthParameters(p_, inliers_.sampson, w_.use_shift, &refined);
+  InlierSets check;
+  ComputeInliers(p_, refined, w_, &check);
+  if (check.sampson.size() < 0.95 * inliers_.sampson.size()) return;
+  *model = refined;
+  *score = ScoreModel(p_, refined, w_);
+  inliers_ = check;
 }
 
 // Local optimisation in the manner of Lebeda et al. 2012 (LO+ with inner samples and a threshold schedule), as

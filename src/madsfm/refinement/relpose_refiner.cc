@@ -342,12 +342,16 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
     Eigen::MatrixXd H(nf, nf);
     for (int a = 0; a < nf; ++a)
       for (int b = 0; b < nf; ++b) H(a, b) = JtJ(free_index[a], free_index[b]);
+    // Directions the residuals leave flat (|t| without depth terms) get a tiny regularisation: their variance
+    // becomes huge but, having no cross-information, they leave the others' marginals alone.
+    for (int a = 0; a < nf; ++a) H(a, a) += 1e-12 * std::max(1.0, H.diagonal().cwiseAbs().maxCoeff());
     const double dof = std::max(1, num_residuals - nf);
     const Eigen::MatrixXd C = H.ldlt().solve(Eigen::MatrixXd::Identity(nf, nf)) * (cost / dof);
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    double* sig[3] = {&summary->sigma_shift0, &summary->sigma_shift1, &summary->sigma_scale};
-    const int which[3] = {kShift0, kShift1, kScale};
-    for (int k = 0; k < 3; ++k) {
+    double* sig[5] = {&summary->sigma_shift0, &summary->sigma_shift1, &summary->sigma_scale, &summary->sigma_f0,
+                      &summary->sigma_f1};
+    const int which[5] = {kShift0, kShift1, kScale, kF0, kF1};
+    for (int k = 0; k < 5; ++k) {
       *sig[k] = nan;
       for (int a = 0; a < nf; ++a) {
         if (free_index[a] == which[k]) *sig[k] = C(a, a) >= 0.0 ? std::sqrt(C(a, a)) : nan;

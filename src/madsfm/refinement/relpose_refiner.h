@@ -36,6 +36,8 @@ struct RelposeRefinerSummary {
   // Standard deviations of shift0, shift1 and scale at the solution from the Gauss-Newton covariance
   // (final_cost / (residuals - free parameters) * (J^T J)^-1); NaN for parameters that are not free.
   double sigma_shift0 = 0.0, sigma_shift1 = 0.0, sigma_scale = 0.0;
+  // ... and of the focal lengths (pixels; shared focal: sigma_f0, with sigma_f1 NaN).
+  double sigma_f0 = 0.0, sigma_f1 = 0.0;
 };
 
 // Refines *model in place. The focal lengths are refined in the focal modes (one shared or two
