@@ -196,8 +196,9 @@ void Engine::LeanOnEpipolarEvidence(AffineDepthPose* model, double* score) {
 // few percent) shifts them by about as much, whereas accurate matches over a well-spread baseline pin them to a
 // fraction of a percent. So the pose and focal lengths are refined on the Sampson inliers alone, starting at the
 // joint estimate, and taken when the Gauss-Newton standard deviation of every focal length is at most
-// epipolar_focal_max_sigma (relative) and >= 95% of the epipolar inliers remain; elsewhere (small baselines,
-// forward motion, noisy matches: a flat epipolar cost) the depth priors keep setting them.
+// epipolar_focal_max_sigma (relative), a focal length moved by more than 3 of them, and >= 95% of the epipolar
+// inliers remain; elsewhere (small baselines, forward motion, noisy matches: a flat epipolar cost; or a joint
+// estimate the epipolar evidence does not reject) the depth priors keep setting them.
 void Engine::TakeEpipolarFocal(AffineDepthPose* model, double* score) {
   RelposeRefinerOptions ro = RefinerOptions(o_.final_max_lm_iterations);
   ro.reprojection_weight = 0.0;
@@ -206,9 +207,14 @@ void Engine::TakeEpipolarFocal(AffineDepthPose* model, double* score) {
   AffineDepthPose refined = *model;
   RelposeRefinerSummary sum;
   if (!RefineRelpose(p_, none, none, inliers_.sampson, ro, &refined, &sum)) return;
-  const double rel0 = sum.sigma_f0 / refined.f0;
-  const double rel1 = p_.mode == CameraMode::kTwoFocal ? sum.sigma_f1 / refined.f1 : 0.0;
+  const bool two = p_.mode == CameraMode::kTwoFocal;
+  const double rel0 = sum.sigma_f0 / refined.f0, rel1 = two ? sum.sigma_f1 / refined.f1 : 0.0;
   if (!(rel0 <= o_.epipolar_focal_max_sigma && rel1 <= o_.epipolar_focal_max_sigma)) return;
+  // Only where the epipolar evidence rejects the joint focal lengths (3 sigma): within its noise the joint estimate
+  // is as good, and the Sampson-only pose can slide along a valley its focal-length deviation does not show.
+  const bool rejects = std::abs(refined.f0 - model->f0) > 3.0 * sum.sigma_f0 ||
+                       (two && std::abs(refined.f1 - model->f1) > 3.0 * sum.sigma_f1);
+  if (!rejects) return;
   FitDepthParameters(p_, inliers_.sampson, w_.use_shift, &refined);
   InlierSets check;
   ComputeInliers(p_, refined, w_, &check);

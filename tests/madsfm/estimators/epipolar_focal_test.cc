@@ -90,5 +90,26 @@ TEST(EpipolarFocal, NoisyMatchesKeepTheJointFocalLengths) {
   EXPECT_LE(on.median_pose_err, off.median_pose_err * 1.05 + 0.02);
 }
 
+// Pair 7 of the held-out hard_indoor_shared_focal set (`madsfm synth --seed 7`): its epipolar focal length is
+// precise (deviation below 1%) and within 3 deviations of the joint one, but the Sampson-only pose slides 3 deg
+// further from the truth (2.5 -> 5.4 deg when it was taken). A joint estimate the epipolar evidence does not reject
+// is kept.
+TEST(EpipolarFocal, JointFocalWithinTheEpipolarNoiseIsKept) {
+  const auto set = GenerateTwoViewSet(*SyntheticPairPreset("hard_indoor_shared_focal"), 8, 7);
+  const PairData& pair = set[7].pair;
+  for (uint64_t seed : {0, 1, 2}) {
+    HybridEstimatorOptions o;
+    o.seed = seed;
+    const PairResult on = EvaluatePair(pair, CameraMode::kSharedFocal, "hybrid", o);
+    o.epipolar_focal_max_sigma = 0.0;
+    const PairResult off = EvaluatePair(pair, CameraMode::kSharedFocal, "hybrid", o);
+    const double e_on = std::max(*on.rot_err_deg, *on.trans_err_deg);
+    const double e_off = std::max(*off.rot_err_deg, *off.trans_err_deg);
+    std::printf("seed %d: pose error %.2f deg (rule off %.2f), focal error %.2f%% (%.2f%%)\n", static_cast<int>(seed),
+                e_on, e_off, 100 * *on.focal_err, 100 * *off.focal_err);
+    EXPECT_LE(e_on, e_off + 0.1);
+  }
+}
+
 }  // namespace
 }  // namespace madsfm
