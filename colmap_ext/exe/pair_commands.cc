@@ -39,7 +39,7 @@ struct EstimatorFlags {
                        "Weight of the reprojection terms in a last refinement (1: the paper's joint cost only).");
     parser->AddDefault("epipolar_focal_max_sigma", &options.epipolar_focal_max_sigma,
                        "Focal modes: take the epipolar inliers' own focal lengths where their relative standard "
-                       "deviation is at most this (0: never).");
+                       "deviation is at most this and they differ from the joint ones by > 3 deviations (0: never).");
     parser->AddDefault("epipolar_check_ratio", &options.epipolar_check_ratio,
                        "Calibrated: a point-only run replaces the hybrid pose when it has this many times its epipolar "
                        "inliers (0: off).");

@@ -83,7 +83,8 @@ struct HybridEstimatorOptions {
   // so this wins wherever the epipolar geometry is well conditioned; docs/benchmarks.md measures it.
   double final_reprojection_weight = 0.0;
   // Focal modes, before that last refinement: the focal lengths (and pose) of the epipolar inliers alone are taken
-  // where their relative Gauss-Newton standard deviation is at most this (0: never; Engine::TakeEpipolarFocal).
+  // where their relative Gauss-Newton standard deviation is at most this and they reject the joint ones (differ by
+  // more than 3 deviations) (0: never; Engine::TakeEpipolarFocal; docs/benchmarks.md section 11).
   double epipolar_focal_max_sigma = 0.01;
 
   // Calibrated hybrid only: a point-only LO-MSAC run (5pt, Sampson score) competes with the hybrid
