@@ -331,20 +331,27 @@ TEST(MultiViewScene, SurfacesAreTextured) {
   }
 }
 
+// A straight 8-image walk of the room (sideways or forward) whose length is baseline_fraction x the distance to the
+// target, which is drawn in [3.3, 3.7] m.
+MultiViewScene StraightWalk(MultiViewMotion motion, double baseline_fraction, uint64_t seed) {
+  MultiViewSceneOptions o = SmallOptions(MultiViewSceneType::kRoom, 160, 120);
+  o.num_images = 8;
+  o.motion = motion;
+  o.baseline_fraction = baseline_fraction;
+  MultiViewScene walk(o, seed);
+  const double length = (walk.Camera(7).Center() - walk.Camera(0).Center()).norm();
+  EXPECT_GT(length, baseline_fraction * 3.3 * 0.95);
+  EXPECT_LT(length, baseline_fraction * 3.7 * 1.05);
+  return walk;
+}
+
 // Issue 14's hard motions: a sideways walk of baseline_fraction x the distance with parallel views, hand-held
 // centres inside a ball of that diameter, and per-image focal lengths in the requested FOV range that leave the
 // scene and the poses of the seed unchanged.
 TEST(MultiViewScene, SidewaysHandheldAndPerImageFocal) {
   for (uint64_t seed : {0, 1, 2}) {
+    const MultiViewScene walk = StraightWalk(MultiViewMotion::kSideways, 0.08, seed);
     MultiViewSceneOptions o = SmallOptions(MultiViewSceneType::kRoom, 160, 120);
-    o.num_images = 8;
-    o.motion = MultiViewMotion::kSideways;
-    o.baseline_fraction = 0.08;
-    const MultiViewScene walk(o, seed);
-    const Eigen::Vector3d c0 = walk.Camera(0).Center(), c7 = walk.Camera(7).Center();
-    const double length = (c7 - c0).norm();  // 0.08 x the distance to the target, which is drawn in [3.3, 3.7] m
-    EXPECT_GT(length, 0.08 * 3.3 * 0.95);
-    EXPECT_LT(length, 0.08 * 3.7 * 1.05);
     for (int i = 0; i < 8; ++i) {
       const Eigen::Vector3d z0 = walk.Camera(0).R.row(2).transpose(), zi = walk.Camera(i).R.row(2).transpose();
       EXPECT_LT(std::acos(std::clamp(z0.dot(zi), -1.0, 1.0)) * 180.0 / M_PI, 3.0) << "views stay parallel";
@@ -391,15 +398,8 @@ TEST(MultiViewScene, SidewaysHandheldAndPerImageFocal) {
 // epipole of every pair lies near the image centre and the points ahead have small triangulation angles.
 TEST(MultiViewScene, ForwardWalkLooksAlongItsPath) {
   for (uint64_t seed : {0, 1, 2}) {
-    MultiViewSceneOptions o = SmallOptions(MultiViewSceneType::kRoom, 160, 120);
-    o.num_images = 8;
-    o.motion = MultiViewMotion::kForward;
-    o.baseline_fraction = 0.2;
-    const MultiViewScene walk(o, seed);
+    const MultiViewScene walk = StraightWalk(MultiViewMotion::kForward, 0.2, seed);
     const Eigen::Vector3d c0 = walk.Camera(0).Center(), c7 = walk.Camera(7).Center();
-    const double length = (c7 - c0).norm();  // 0.2 x the distance to the target, which is drawn in [3.3, 3.7] m
-    EXPECT_GT(length, 0.2 * 3.3 * 0.95);
-    EXPECT_LT(length, 0.2 * 3.7 * 1.05);
     for (int i = 0; i < 8; ++i) {
       const MultiViewCamera& cam = walk.Camera(i);
       // The end of the walk seen from camera i (i < 7) or its start seen from camera 7: the epipole of the pair.
