@@ -22,7 +22,9 @@ for seed in "${SEEDS[@]}"; do
     local name=$1 list=$2 single=$3; shift 3
     local p="$OUT/projects/${name}_s$seed"
     if [ ! -f "$p/database.db" ]; then
-      "$MADSFM" render_scene --output_path "$p" --seed "$seed" --prior_distortion "$distortion" "$@" >/dev/null 2>&1
+      mkdir -p "$p"
+      "$MADSFM" render_scene --output_path "$p" --seed "$seed" --prior_distortion "$distortion" "$@" \
+        >"$p/render.log" 2>&1 || { echo "render_scene failed for $p:" >&2; cat "$p/render.log" >&2; exit 1; }
       SINGLE_CAMERA=$single bash "$HERE/../e2e/colmap_features.sh" "$p"
     fi
     rm -rf "$OUT/pairs/${name}_s$seed"

@@ -86,9 +86,13 @@ def main():
         with open(os.path.join(d, "info.json"), "w") as f:
             json.dump(info, f, indent=1)
         listed.append(name)
-    with open(os.path.join(args.out, "pairs.txt"), "a") as f:
+    # Appended (several projects may share OUT_DIR), each pair once.
+    list_path = os.path.join(args.out, "pairs.txt")
+    known = set(open(list_path).read().split()) if os.path.isfile(list_path) else set()
+    with open(list_path, "a") as f:
         for name in listed:
-            f.write(name + "\n")
+            if name not in known:
+                f.write(name + "\n")
     print(f"rendered_pairs.py: {len(listed)} pairs from {args.project} -> {args.out}")
 
 
