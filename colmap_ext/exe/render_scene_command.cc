@@ -31,7 +31,7 @@ int RunRenderScene(int argc, char** argv) {
   parser.AddDefault("motion", &motion,
                     "Camera motion (room): arc (60 deg around the target), sideways (a straight walk across the view\n"
                     "of baseline_fraction x the distance), handheld (centres in a ball of that diameter), forward (a\n"
-                    "straight walk of that length towards the target, looking along it).");
+                    "straight walk of that length towards the target, heading along it).");
   parser.AddDefault("baseline_fraction", &baseline_fraction,
                     "sideways / handheld / forward: path length / distance to target.");
   parser.AddDefault("per_image_fov_min", &per_image_fov_min,
