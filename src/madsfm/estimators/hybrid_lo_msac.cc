@@ -4,6 +4,7 @@
 #include <cmath>
 #include <algorithm>
 #include <limits>
+#include <utility>
 
 #include "madsfm/estimators/hybrid_sampling.h"
 #include "madsfm/estimators/minimal_solvers.h"
@@ -74,6 +75,7 @@ class Engine {
   void FitDepthCorrections(AffineDepthPose* model, double* score, HybridEstimate* result);
   void LeanOnEpipolarEvidence(AffineDepthPose* model, double* score);
   void TakeEpipolarFocal(AffineDepthPose* model, double* score);
+  bool KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineDepthPose* model, double* score);
 
   const RelposeProblem& p_;
   const HybridEstimatorOptions& o_;
@@ -180,15 +182,20 @@ void Engine::LeanOnEpipolarEvidence(AffineDepthPose* model, double* score) {
       return;
     }
     if (epipolar_only) FitDepthParameters(p_, inliers_.sampson, w_.use_shift, &refined);
-    InlierSets check;
-    ComputeInliers(p_, refined, w_, &check);
-    if (check.sampson.size() < 0.95 * inliers_.sampson.size()) return;
-    const bool same_inliers = check.sampson == inliers_.sampson;
-    *model = refined;
-    *score = ScoreModel(p_, refined, w_);
-    inliers_ = check;
-    if (same_inliers) return;
+    const std::vector<int> before = inliers_.sampson;
+    if (!KeepIfEpipolarInliersRemain(refined, model, score) || inliers_.sampson == before) return;
   }
+}
+
+// Takes `refined` (model, score and inliers) when it keeps >= 95% of the current epipolar inliers.
+bool Engine::KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineDepthPose* model, double* score) {
+  InlierSets check;
+  ComputeInliers(p_, refined, w_, &check);
+  if (check.sampson.size() < 0.95 * inliers_.sampson.size()) return false;
+  *model = refined;
+  *score = ScoreModel(p_, refined, w_);
+  inliers_ = std::move(check);
+  return true;
 }
 
 // Focal modes: the focal lengths of the epipolar geometry alone, where it determines them. The joint estimate takes
@@ -216,12 +223,7 @@ void Engine::TakeEpipolarFocal(AffineDepthPose* model, double* score) {
                        (two && std::abs(refined.f1 - model->f1) > 3.0 * sum.sigma_f1);
   if (!rejects) return;
   FitDepthParameters(p_, inliers_.sampson, w_.use_shift, &refined);
-  InlierSets check;
-  ComputeInliers(p_, refined, w_, &check);
-  if (check.sampson.size() < 0.95 * inliers_.sampson.size()) return;
-  *model = refined;
-  *score = ScoreModel(p_, refined, w_);
-  inliers_ = check;
+  KeepIfEpipolarInliersRemain(refined, model, score);
 }
 
 // Local optimisation in the manner of Lebeda et al. 2012 (LO+ with inner samples and a threshold schedule), as
