@@ -32,6 +32,8 @@ struct EstimatorFlags {
                        "Inlier threshold of the Sampson error, pixels (paper: 2 on 640x480, 1 on larger images).");
     parser->AddDefault("sampson_weight", &options.sampson_weight, "lambda_s, weight of the Sampson term.");
     parser->AddDefault("min_iterations", &options.min_iterations, "Minimum RANSAC iterations.");
+    parser->AddDefault("min_iterations_two_focal_points", &options.min_iterations_two_focal_points,
+                       "Two focal lengths, point samples only (7-point): at least this many iterations.");
     parser->AddDefault("max_iterations", &options.max_iterations, "Maximum RANSAC iterations.");
     parser->AddDefault("num_lo_steps", &options.num_lo_steps, "Local-optimisation rounds per new best model.");
     parser->AddDefault("confidence", &options.confidence, "Confidence of the adaptive stopping criterion.");

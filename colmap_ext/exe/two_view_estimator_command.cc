@@ -43,6 +43,8 @@ int RunTwoViewEstimator(int argc, char** argv) {
                     "Reprojection inlier threshold, px (paper: 8 indoor ~640 px images, 16 outdoor/large).");
   parser.AddDefault("epipolar_threshold", &o.estimator.epipolar_threshold, "Sampson inlier threshold, px.");
   parser.AddDefault("min_iterations", &o.estimator.min_iterations, "Minimum RANSAC iterations.");
+  parser.AddDefault("min_iterations_two_focal_points", &o.estimator.min_iterations_two_focal_points,
+                    "One camera per image and no depth on a pair (7-point samples only): at least this many.");
   parser.AddDefault("max_iterations", &o.estimator.max_iterations, "Maximum RANSAC iterations.");
   int seed = 0;
   parser.AddDefault("seed", &seed, "Random seed (results do not depend on the thread count).");

@@ -26,7 +26,8 @@ namespace {
 // constructor all expand this list, so a field cannot be bound without also being shown and settable.
 #define MADSFM_OPTION_FIELDS(X)                                                                                  \
   X(reproj_threshold) X(epipolar_threshold) X(sampson_weight) X(solvers) X(scoring) X(estimate_shift)            \
-  X(sampson_cheirality) X(cheirality_min_parallax) X(min_iterations) X(max_iterations) X(confidence) X(num_lo_steps) X(num_lo_lsq_steps)    \
+  X(sampson_cheirality) X(cheirality_min_parallax) X(min_iterations) X(min_iterations_two_focal_points)          \
+  X(max_iterations) X(confidence) X(num_lo_steps) X(num_lo_lsq_steps)                                            \
   X(lo_threshold_multiplier) X(lo_inner_sample_multiplier) X(lo_lsq_sample_size) X(lo_starting_iterations)      \
   X(alt_basin_lo_margin) X(lo_max_lm_iterations) X(final_refinement) X(final_max_lm_iterations)                \
   X(final_reprojection_weight) X(epipolar_focal_max_sigma)                                                      \

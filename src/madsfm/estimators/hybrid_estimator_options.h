@@ -50,6 +50,13 @@ struct HybridEstimatorOptions {
   // RANSAC iterations: at least min_iterations, then adaptive (hybrid stopping criterion of
   // Camposeco et al. 2018 at `confidence`), at most max_iterations.
   int min_iterations = 100;
+  // At least this many when only point samples are drawn in two-focal mode (7-point fundamental matrix and
+  // Bougnoux's focal lengths: no depth solver, or too few matches with depth). A clean 7-point sample often gives
+  // focal lengths far off where they are weakly determined, and after local optimisation a wrong-focal basin
+  // that holds ~95% of the inliers, so the stopping criterion, which trusts any clean sample, ends too early. 1000
+  // as PoseLib's examples: two-focal points AUC@10 +1.5 on average over the rendered and synthetic sets
+  // (docs/benchmarks.md section 11, "Update 2026-12-02 (evening)"). Capped by max_iterations.
+  int min_iterations_two_focal_points = 1000;
   int max_iterations = 10000;
   double confidence = 0.9999;
 

@@ -390,9 +390,13 @@ HybridEstimate Engine::Run() {
     }
     pending_alt_score = std::numeric_limits<double>::infinity();
   };
+  const int min_iterations =
+      !depth_ok && mode == CameraMode::kTwoFocal
+          ? std::min(o_.max_iterations, std::max(o_.min_iterations, o_.min_iterations_two_focal_points))
+          : o_.min_iterations;
   int it = 0;
   for (; it < o_.max_iterations; ++it) {
-    if (it >= o_.min_iterations && it >= required) break;
+    if (it >= min_iterations && it >= required) break;
     if (!lo_started && it >= o_.lo_starting_iterations && have_best) {
       lo_started = true;
       optimize_and_compete(best_min, best_min_model_score, best_min_from_points);

@@ -321,6 +321,7 @@ TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
       {"sampson_cheirality", [](HybridEstimatorOptions* e) { e->sampson_cheirality = !e->sampson_cheirality; }},
       {"cheirality_min_parallax", [](HybridEstimatorOptions* e) { e->cheirality_min_parallax += 0.25; }},
       {"min_iterations", [](HybridEstimatorOptions* e) { e->min_iterations += 1; }},
+      {"min_iterations_two_focal_points", [](HybridEstimatorOptions* e) { e->min_iterations_two_focal_points += 1; }},
       {"max_iterations", [](HybridEstimatorOptions* e) { e->max_iterations += 1; }},
       {"confidence", [](HybridEstimatorOptions* e) { e->confidence = 0.99; }},
       {"num_lo_steps", [](HybridEstimatorOptions* e) { e->num_lo_steps += 1; }},
