@@ -255,6 +255,11 @@ int CameraModelNumParams(int model_id) {
   return info == nullptr ? -1 : info->num_params;
 }
 
+int CameraModelNumFocalParams(int model_id) {
+  const ModelInfo* info = FindModel(model_id);
+  return info == nullptr ? -1 : info->num_focal;
+}
+
 bool IsSupportedCameraModel(int model_id) {
   switch (model_id) {
     case 0: case 1: case 2: case 3: case 4: case 5: case 6: case 8: case 9:

@@ -14,6 +14,7 @@ namespace madsfm::colmap {
 std::string CameraModelName(int model_id);                 // "UNKNOWN(<id>)" for others
 int CameraModelId(const std::string& name);                // -1 if unknown
 int CameraModelNumParams(int model_id);                    // -1 if unknown
+int CameraModelNumFocalParams(int model_id);               // 1 (f), 2 (fx, fy), 0 (none); -1 if unknown
 // Models ImageToCamera / CameraToImage handle: SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL, OPENCV, OPENCV_FISHEYE,
 // FULL_OPENCV, SIMPLE_RADIAL_FISHEYE, RADIAL_FISHEYE.
 bool IsSupportedCameraModel(int model_id);

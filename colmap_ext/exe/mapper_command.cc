@@ -62,6 +62,10 @@ int RunMapper(int argc, char** argv) {
                     "1: with a depth-backed (low-parallax) seed and one shared camera whose focal estimate is trusted,\n"
                     "a seeded run whose bundle adjustment moved that focal beyond the estimate's uncertainty (>= 1%) is\n"
                     "repeated with the focal fixed (--Mapper.ba_refine_focal_length 0); 0: never.");
+  parser.AddDefault("fix_focal_ba_uncertain", &o.fix_focal_ba_uncertain,
+                    "1: with any seed and one shared camera whose focal estimate is trusted, the seeded run is repeated\n"
+                    "with the focal fixed when its bundle adjustment determines that focal less well than the pairs did\n"
+                    "(standard deviations) and moved it by more than that (forward motion); 0: never.");
   parser.AddDefault("fallback", &o.fallback,
                     "0: only the seeded colmap mapper run (unseeded when there is no seed), no fallbacks.");
   parser.AddDefault("colmap_path", &o.colmap_path, "The colmap executable.");

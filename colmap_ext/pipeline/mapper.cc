@@ -19,6 +19,7 @@
 
 #include "colmap_ext/database/database.h"
 #include "colmap_ext/io/file_copy.h"
+#include "colmap_ext/model/focal_uncertainty.h"
 #include "colmap_ext/model/reconstruction.h"
 
 extern char** environ;
@@ -174,6 +175,39 @@ std::string FindExecutable(const std::string& name) {
   return "";
 }
 
+FocalFixDecision DecideFocalFix(const FocalChange& estimate, double focal_after_ba,
+                                const std::optional<colmap::FocalUncertainty>& ba, bool low_parallax_rule,
+                                bool ba_uncertain_rule) {
+  FocalFixDecision d;
+  d.drift = std::abs(focal_after_ba / estimate.new_focal - 1.0);
+  const double root_n = std::sqrt(std::max(1, estimate.num_pairs));
+  char buf[320];
+  // (a) Low parallax: beyond 3 robust sigmas of the pairs' log focal over sqrt(pairs), at least 1%.
+  const double allowed = std::max(0.01, 3.0 * estimate.spread / root_n);
+  if (low_parallax_rule && d.drift > allowed) {
+    std::snprintf(buf, sizeof(buf),
+                  "      low parallax: bundle adjustment moved the focal from %.1f to %.1f px (%.1f%%, beyond the %.1f%% "
+                  "its %d depth-backed pairs support); running again with the focal fixed",
+                  estimate.new_focal, focal_after_ba, 100 * d.drift, 100 * allowed, estimate.num_pairs);
+    d.fix = true;
+    d.reason = buf;
+    return d;
+  }
+  // (b) Bundle adjustment determines the focal less well than the pairs (1.4826 x the MAD is the normal sigma) and
+  // moved it by more than the pairs' sigma.
+  const double sigma_pairs = 1.4826 * estimate.spread / root_n;
+  if (ba_uncertain_rule && ba && ba->Relative() > sigma_pairs && d.drift > sigma_pairs) {
+    std::snprintf(buf, sizeof(buf),
+                  "      bundle adjustment determines the focal to +-%.2f%% (1 sigma), its %d depth-backed pairs to "
+                  "+-%.2f%%, and it moved it from %.1f to %.1f px (%.2f%%); running again with the focal fixed",
+                  100 * ba->Relative(), estimate.num_pairs, 100 * sigma_pairs, estimate.new_focal, focal_after_ba,
+                  100 * d.drift);
+    d.fix = true;
+    d.reason = buf;
+  }
+  return d;
+}
+
 MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<void(bool, const std::string&)>& report) {
   auto say = [&](bool warning, const std::string& line) {
     if (report) report(warning, line);
@@ -315,33 +349,37 @@ MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<vo
   const auto t3 = Clock::now();
   if (s.seeded) {
     const MapperAttempt seeded = run_attempt("seeded", options.two_view.database_path, so.output_path, {});
-    // Low parallax with one shared camera whose focal focal_estimator trusts: when bundle adjustment moved that
-    // focal by more than the aggregate's uncertainty allows (3 robust sigmas of the pairs' log focal over
-    // sqrt(pairs), at least 1%), it followed the focal-depth ambiguity of a small baseline, not evidence; run again
-    // with the focal fixed. (One camera only: with one camera per image, refining each focal did better on the
-    // per-image walk of docs/benchmarks.md section 9.)
-    if (s.seed.depth_backed && options.fix_focal_low_parallax && s.focal.size() == 1 && s.focal[0].updated &&
-        s.focal[0].trusted && !seeded.model_path.empty() &&
-        !FindArg(options.colmap_mapper_args, "--Mapper.ba_refine_focal_length", &value)) {
+    // One shared camera whose focal focal_estimator trusts, and bundle adjustment moved it. Run again with the focal
+    // fixed (a) on a low-parallax (depth-backed) seed when it moved by more than the aggregate's uncertainty allows
+    // (3 robust sigmas of the pairs' log focal over sqrt(pairs), at least 1%): at 1-2 deg of parallax bundle
+    // adjustment follows the focal-depth ambiguity of a small baseline, not evidence; or (b) when bundle adjustment
+    // determines the focal less well than the pairs did (its Gauss-Newton standard deviation above the aggregate's,
+    // 1.4826 x the robust spread over sqrt(pairs)) and moved it by more than that: forward motion, where the epipolar
+    // geometry leaves the focal open and the result is set by noise. (One camera only: with one camera per image,
+    // refining each focal did better on the per-image walk of docs/benchmarks.md section 9.)
+    const bool one_trusted = s.focal.size() == 1 && s.focal[0].updated && s.focal[0].trusted &&
+                             !seeded.model_path.empty() &&
+                             !FindArg(options.colmap_mapper_args, "--Mapper.ba_refine_focal_length", &value);
+    const bool low_parallax = s.seed.depth_backed && options.fix_focal_low_parallax;
+    if (one_trusted && (low_parallax || options.fix_focal_ba_uncertain)) {
       colmap::Reconstruction model;
       try {
         model = colmap::ReadReconstruction(seeded.model_path);
       } catch (const std::exception& e) {  // keep the seeded run as it is
         say(true, std::string("madsfm mapper: cannot read the seeded model to check its focal: ") + e.what());
       }
-      const auto cam = model.cameras.find(s.focal[0].camera_id);
+      const FocalChange& fc = s.focal[0];
+      const auto cam = model.cameras.find(fc.camera_id);
       if (cam != model.cameras.end()) {
         const colmap::CameraIntrinsics& k = cam->second.intrinsics;
         const double f_ba = 0.5 * (k.FocalX() + k.FocalY());
-        s.focal_drift = std::abs(f_ba / s.focal[0].new_focal - 1.0);
-        const double allowed =
-            std::max(0.01, 3.0 * s.focal[0].spread / std::sqrt(std::max(1, s.focal[0].num_pairs)));
-        if (s.focal_drift > allowed) {
-          std::snprintf(buf, sizeof(buf),
-                        "      low parallax: bundle adjustment moved the focal from %.1f to %.1f px (%.1f%%, beyond "
-                        "the %.1f%% its %d depth-backed pairs support); running again with the focal fixed",
-                        s.focal[0].new_focal, f_ba, 100 * s.focal_drift, 100 * allowed, s.focal[0].num_pairs);
-          say(false, buf);
+        std::optional<colmap::FocalUncertainty> u;
+        if (options.fix_focal_ba_uncertain) u = colmap::BundleFocalUncertainty(model, fc.camera_id);
+        if (u) s.focal_ba_sigma = u->Relative();
+        const FocalFixDecision d = DecideFocalFix(fc, f_ba, u, low_parallax, options.fix_focal_ba_uncertain);
+        s.focal_drift = d.drift;
+        if (d.fix) {
+          say(false, d.reason);
           const MapperAttempt fixed = run_attempt("seeded_fixed_focal", options.two_view.database_path, so.output_path,
                                                   {"--Mapper.ba_refine_focal_length", "0"});
           s.focal_fixed = !fixed.model_path.empty() && fixed.num_registered >= seeded.num_registered;

@@ -3,8 +3,9 @@
 // result is never worse than plain `colmap mapper` in registered images:
 //
 //  1. seeded:           colmap mapper --input_path OUT/seed (when a pair passed seed_model's checks), repeated
-//                       with the focal fixed when bundle adjustment drifted on a low-parallax seed
-//                       (seeded_fixed_focal, see fix_focal_low_parallax);
+//                       with the focal fixed when bundle adjustment drifted on a low-parallax seed or cannot
+//                       determine the focal as well as the pairs did (seeded_fixed_focal, see
+//                       fix_focal_low_parallax, fix_focal_ba_uncertain and DecideFocalFix);
 //  2. unseeded:         colmap mapper on madsfm's two-view geometries, COLMAP choosing the initial pair;
 //  3. unseeded_relaxed: the same with relaxed initial-pair constraints (--Mapper.init_min_tri_angle, ...), only
 //                       when attempt 2 produced no model;
@@ -15,9 +16,11 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "colmap_ext/model/focal_uncertainty.h"
 #include "colmap_ext/pipeline/focal_estimator.h"
 #include "colmap_ext/pipeline/seed_model.h"
 #include "colmap_ext/pipeline/two_view_estimator.h"
@@ -45,6 +48,11 @@ struct MapperOptions {
   // colmap_mapper_args set that option. At 1-2 deg of parallax bundle adjustment cannot tell a shared focal length
   // from depth and can drift far from the depth-backed value.
   bool fix_focal_low_parallax = true;
+  // The same rerun, with any seed, when bundle adjustment determines that focal less well than focal_estimator's
+  // pairs (colmap::BundleFocalUncertainty of the seeded model against 1.4826 x the pairs' robust spread over
+  // sqrt(pairs)) and moved it by more than that: forward motion leaves the focal unobservable to the epipolar
+  // geometry, and bundle adjustment's value is noise.
+  bool fix_focal_ba_uncertain = true;
 };
 
 struct MapperAttempt {
@@ -67,7 +75,8 @@ struct MapperSummary {
   std::string seed_failure;  // why no seed was written (seeded == false)
   double seed_seconds = 0;
   double focal_drift = 0;    // |f after the seeded run's bundle adjustment / f of focal_estimator - 1| (one camera)
-  bool focal_fixed = false;  // the fixed-focal rerun was made and kept (fix_focal_low_parallax)
+  double focal_ba_sigma = 0;  // relative standard deviation of that focal in the seeded model's bundle adjustment
+  bool focal_fixed = false;  // the fixed-focal rerun was made and kept (fix_focal_low_parallax / _ba_uncertain)
   int num_expected = 0;      // images with at least one verified pair of >= Mapper.min_num_matches inliers
   std::vector<MapperAttempt> attempts;
   int kept = -1;             // index into attempts of the model in final_path
@@ -83,6 +92,19 @@ struct MapperSummary {
 // colmap mapper log).
 MapperSummary RunMapperImpl(const MapperOptions& options,
                             const std::function<void(bool warning, const std::string& line)>& report = {});
+
+// Whether the seeded run is repeated with the trusted focal `estimate` fixed, given the focal bundle adjustment
+// ended at and, when known, its standard deviation there (see MapperOptions::fix_focal_low_parallax, applied when
+// low_parallax_rule, and fix_focal_ba_uncertain, applied when ba_uncertain_rule). drift: |focal_after_ba /
+// estimate.new_focal - 1|; reason: the progress line when fix.
+struct FocalFixDecision {
+  bool fix = false;
+  double drift = 0.0;
+  std::string reason;
+};
+FocalFixDecision DecideFocalFix(const FocalChange& estimate, double focal_after_ba,
+                                const std::optional<colmap::FocalUncertainty>& ba, bool low_parallax_rule,
+                                bool ba_uncertain_rule);
 
 // Resolves a program name against PATH (or checks an explicit path). Empty if not found.
 std::string FindExecutable(const std::string& name);
