@@ -5,7 +5,7 @@ set -euo pipefail
 PACKAGES=(
   cmake g++ make ccache pkg-config
   libeigen3-dev libceres-dev libgoogle-glog-dev libgflags-dev
-  nlohmann-json3-dev libsqlite3-dev sqlite3 zlib1g-dev
+  nlohmann-json3-dev libsqlite3-dev sqlite3 zlib1g-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   colmap python3-numpy
   clang libclang-rt-14-dev

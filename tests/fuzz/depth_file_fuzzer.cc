@@ -1,4 +1,4 @@
-// libFuzzer target: madsfm::ReadDepthMap on arbitrary bytes saved as .pfm, .bin and .npy in turn. A
+// libFuzzer target: madsfm::ReadDepthMap on arbitrary bytes saved as .pfm, .bin, .npy and .png in turn. A
 // std::exception is a clean rejection; anything else is a finding.
 #include <cstddef>
 #include <cstdint>
@@ -9,7 +9,7 @@
 #include "madsfm/io/depth_map_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  for (const char* ext : {".pfm", ".bin", ".npy"}) {
+  for (const char* ext : {".pfm", ".bin", ".npy", ".png"}) {
     const std::string path = madsfm::fuzz::ScratchDir() + "/depth" + ext;
     madsfm::fuzz::WriteFile(path, data, size);
     try {

@@ -34,7 +34,7 @@ depends="$(dpkg-deb -f "$deb" Depends)"
 echo "Depends: $depends"
 echo "Recommends: $(dpkg-deb -f "$deb" Recommends)"
 depends_names="$(tr ',' '\n' <<<"$depends" | awk '{print $1}')"
-for p in libc6 libstdc++6 libsqlite3-0 zlib1g; do
+for p in libc6 libstdc++6 libsqlite3-0 zlib1g libpng16-16; do
   grep -Fxq "$p" <<<"$depends_names" || { echo "FAIL: Depends lacks $p"; exit 1; }
 done
 [[ "$(dpkg-deb -f "$deb" Recommends)" == *colmap* ]] || { echo "FAIL: colmap is not in Recommends"; exit 1; }

@@ -15,6 +15,8 @@
 #include <system_error>
 #include <vector>
 
+#include <png.h>
+
 #include "madsfm/io/npy.h"
 
 namespace madsfm {
@@ -203,6 +205,82 @@ DepthMap ReadDepthColmapBin(const std::string& path) {
   return map;
 }
 
+uint32_t BigEndian32(const std::string& bytes, size_t pos) {
+  return (static_cast<uint32_t>(static_cast<unsigned char>(bytes[pos])) << 24) |
+         (static_cast<uint32_t>(static_cast<unsigned char>(bytes[pos + 1])) << 16) |
+         (static_cast<uint32_t>(static_cast<unsigned char>(bytes[pos + 2])) << 8) |
+         static_cast<uint32_t>(static_cast<unsigned char>(bytes[pos + 3]));
+}
+
+// 16-bit grayscale PNG, the format of sensor depth (TUM RGB-D, ScanNet, Redwood, ICL-NUIM) and of 16-bit exports of
+// monocular depth models: the raw 16-bit values, any unit (madsfm estimates a scale); 0 is "no depth" and stays
+// invalid. The header chunks are checked first so that the errors can say what the file is; libpng decodes it.
+DepthMap ReadDepthPng(const std::string& path) {
+  InputFile file(path);
+  const std::string bytes = file.ReadPrefix(file.Size());
+  static const char kSignature[] = "\x89PNG\r\n\x1a\n";
+  if (bytes.size() < 8 || bytes.compare(0, 8, kSignature, 8) != 0) Fail(path, "not a PNG file (bad signature)");
+  // Chunks before the image data: IHDR (size, bit depth, colour type) and any colour-space chunk, which would make
+  // libpng convert the samples instead of returning them as stored.
+  int bit_depth = 0, color_type = -1;
+  for (size_t pos = 8; pos + 8 <= bytes.size();) {
+    const uint32_t length = BigEndian32(bytes, pos);
+    const std::string type = bytes.substr(pos + 4, 4);
+    if (length > bytes.size() || pos + 12 + length > bytes.size()) Fail(path, "truncated PNG chunk '" + type + "'");
+    if (type == "IHDR") {
+      if (length != 13) Fail(path, "bad PNG header chunk");
+      bit_depth = static_cast<unsigned char>(bytes[pos + 16]);
+      color_type = static_cast<unsigned char>(bytes[pos + 17]);
+    } else if (type == "IDAT" || type == "IEND") {
+      break;
+    } else if (type == "sRGB" || type == "iCCP" ||
+               (type == "gAMA" && (length != 4 || BigEndian32(bytes, pos + 8) != 100000))) {
+      Fail(path, "PNG with a non-linear colour space ('" + type +
+                     "' chunk): depth PNGs must store raw values (16-bit grayscale, no gamma)");
+    }
+    pos += 12 + length;
+  }
+  if (color_type < 0) Fail(path, "PNG without a header chunk");
+  if (color_type != 0) {
+    const char* kind = color_type == 2 ? "RGB" : color_type == 3 ? "palette" : color_type == 4 ? "grayscale+alpha"
+                                                                                : color_type == 6 ? "RGBA" : "unknown";
+    Fail(path, std::string(kind) + " PNG: depth PNGs must be single-channel 16-bit grayscale (is --depth_path the "
+                                   "image folder?)");
+  }
+  if (bit_depth != 16) {
+    Fail(path, std::to_string(bit_depth) + "-bit grayscale PNG: depth PNGs must be 16-bit (fewer bits cannot hold a "
+                                           "depth map; save the model's output as .npy, .pfm or 16-bit PNG)");
+  }
+  png_image image;
+  std::memset(&image, 0, sizeof(image));
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size())) {
+    Fail(path, std::string("bad PNG: ") + image.message);
+  }
+  const uint64_t pixels = static_cast<uint64_t>(image.width) * image.height;
+  if (pixels == 0 || pixels > (uint64_t{1} << 28)) {
+    const std::string size = std::to_string(image.width) + "x" + std::to_string(image.height);
+    png_image_free(&image);
+    Fail(path, "PNG of " + size + " pixels: expected 1 to 2^28 pixels");
+  }
+  image.format = PNG_FORMAT_LINEAR_Y;
+  std::vector<uint16_t> samples;
+  try {
+    samples.resize(static_cast<size_t>(pixels));
+  } catch (...) {
+    png_image_free(&image);
+    throw;
+  }
+  if (!png_image_finish_read(&image, nullptr, samples.data(), 0, nullptr)) {
+    Fail(path, std::string("bad PNG: ") + image.message);
+  }
+  DepthMap map;
+  map.width = static_cast<int>(image.width);
+  map.height = static_cast<int>(image.height);
+  map.data.assign(samples.begin(), samples.end());
+  return map;
+}
+
 void CheckWritable(const DepthMap& map, const std::string& path) {
   CheckNotEmpty(path, map.width, map.height);
   if (map.data.size() != static_cast<size_t>(map.width) * static_cast<size_t>(map.height)) {
@@ -231,7 +309,8 @@ DepthMap ReadDepthMap(const std::string& path) {
   if (extension == ".npy") return ReadDepthNpy(path);
   if (extension == ".pfm") return ReadDepthPfm(path);
   if (extension == ".bin") return ReadDepthColmapBin(path);
-  Fail(path, "unsupported extension '" + extension + "' (expected .npy, .pfm or COLMAP .bin)");
+  if (extension == ".png") return ReadDepthPng(path);
+  Fail(path, "unsupported extension '" + extension + "' (expected .npy, .pfm, COLMAP .bin or 16-bit .png)");
 }
 
 std::optional<std::string> FindDepthSidecar(const std::string& depth_dir, const std::string& image_name) {
@@ -241,6 +320,7 @@ std::optional<std::string> FindDepthSidecar(const std::string& depth_dir, const 
   const std::string candidates[] = {
       with_ext + ".npy",           without_ext + ".npy",           with_ext + ".pfm", without_ext + ".pfm",
       with_ext + ".geometric.bin", with_ext + ".photometric.bin", with_ext + ".bin",
+      with_ext + ".png",           without_ext + ".png",
   };
   for (const std::string& candidate : candidates) {
     std::error_code ec;

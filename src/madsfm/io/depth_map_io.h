@@ -1,4 +1,5 @@
-// Depth-map files (design.md section 5): reading .npy / .pfm / COLMAP .bin, finding an image's sidecar, writing.
+// Depth-map files (design.md section 5): reading .npy / .pfm / COLMAP .bin / 16-bit .png, finding an image's sidecar,
+// writing.
 //
 // Every reader throws std::runtime_error whose message starts with "depth file '<path>': " and says what is
 // wrong (missing file, unsupported extension, bad header, truncated data, wrong shape or dtype, empty map).
@@ -18,11 +19,14 @@ namespace madsfm {
 //  .pfm  grayscale "Pf" only (a 3-channel "PF" file is an error); a negative scale means little-endian; rows are
 //        stored bottom-to-top and returned top-to-bottom.
 //  .bin  COLMAP dense depth map: ASCII "W&H&C&" header, then little-endian float32; only C = 1 is accepted.
+//  .png  16-bit grayscale (sensor depth, 16-bit exports of depth models): the stored integers in any unit, 0 = no
+//        depth (invalid); colour, alpha, palette, fewer bits and non-linear colour-space chunks are errors.
 DepthMap ReadDepthMap(const std::string& path);
 
 // Looks up the depth sidecar of the image `image_name` (as stored in the COLMAP database, e.g. "a/b.jpg") under
 // depth_dir, in this order: a/b.jpg.npy, a/b.npy, a/b.jpg.pfm, a/b.pfm, a/b.jpg.geometric.bin,
-// a/b.jpg.photometric.bin, a/b.jpg.bin. Returns the path of the first regular file that exists, or nullopt.
+// a/b.jpg.photometric.bin, a/b.jpg.bin, a/b.jpg.png, a/b.png. Returns the path of the first regular file that
+// exists, or nullopt.
 std::optional<std::string> FindDepthSidecar(const std::string& depth_dir, const std::string& image_name);
 
 // Writers (float32, little-endian); they throw std::runtime_error naming the file on failure or on an empty or

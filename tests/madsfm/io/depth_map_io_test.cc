@@ -7,6 +7,9 @@
 #include <cstdio>
 #include <limits>
 #include <random>
+#include <vector>
+
+#include <zlib.h>
 
 #include "madsfm/io/io_test_util.h"
 #include "madsfm/io/npy.h"
@@ -215,8 +218,8 @@ TEST(DepthMapIo, FileLevelErrors) {
   TempDir tmp;
   ExpectDepthError(tmp.File("missing.npy"), "file does not exist");
   ExpectDepthError(tmp.path(), "is a directory");
-  WriteFile(tmp.File("depth.png"), "\x89PNG");
-  ExpectDepthError(tmp.File("depth.png"), "unsupported extension '.png'");
+  WriteFile(tmp.File("depth.tiff"), "II*");
+  ExpectDepthError(tmp.File("depth.tiff"), "unsupported extension '.tiff'");
   WriteFile(tmp.File("noext"), "");
   ExpectDepthError(tmp.File("noext"), "unsupported extension");
   DepthMap bad;
@@ -267,6 +270,150 @@ TEST(DepthMapIo, FuzzedPfmAndBinNeverCrash) {
   EXPECT_EQ(other, 0);
 }
 
+// A PNG byte stream written field by field (PNG specification, ISO/IEC 15948), independent of libpng: signature,
+// IHDR, the extra chunks, one zlib-compressed IDAT whose rows use the None / Sub / Up filters in turn, IEND.
+std::string PngChunk(const std::string& type, const std::string& data) {
+  auto be32 = [](uint32_t v) {
+    return std::string{static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8),
+                       static_cast<char>(v)};
+  };
+  const std::string body = type + data;
+  const uint32_t crc = crc32(0, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()));
+  return be32(static_cast<uint32_t>(data.size())) + body + be32(crc);
+}
+
+std::string MakePng(int width, int height, int bit_depth, int color_type, const std::vector<uint8_t>& raw_rows,
+                    const std::vector<std::string>& extra_chunks = {}) {
+  const int channels = color_type == 2 ? 3 : color_type == 6 ? 4 : color_type == 4 ? 2 : 1;
+  const size_t stride = static_cast<size_t>(width) * channels * bit_depth / 8;
+  const size_t bpp = std::max<size_t>(1, static_cast<size_t>(channels) * bit_depth / 8);
+  std::string filtered;
+  for (int y = 0; y < height; ++y) {
+    const uint8_t* row = raw_rows.data() + y * stride;
+    const int filter = y == 0 ? (y % 2) : (y % 3);  // 0 None, 1 Sub, 2 Up
+    filtered.push_back(static_cast<char>(filter));
+    for (size_t x = 0; x < stride; ++x) {
+      uint8_t predictor = 0;
+      if (filter == 1 && x >= bpp) predictor = row[x - bpp];
+      if (filter == 2) predictor = row[x - stride];
+      filtered.push_back(static_cast<char>(static_cast<uint8_t>(row[x] - predictor)));
+    }
+  }
+  std::vector<Bytef> compressed(compressBound(static_cast<uLong>(filtered.size())));
+  uLongf size = static_cast<uLongf>(compressed.size());
+  EXPECT_EQ(compress(compressed.data(), &size, reinterpret_cast<const Bytef*>(filtered.data()),
+                     static_cast<uLong>(filtered.size())),
+            Z_OK);
+  std::string ihdr;
+  for (uint32_t v : {static_cast<uint32_t>(width), static_cast<uint32_t>(height)}) {
+    for (int shift = 24; shift >= 0; shift -= 8) ihdr.push_back(static_cast<char>(v >> shift));
+  }
+  ihdr += std::string{static_cast<char>(bit_depth), static_cast<char>(color_type), 0, 0, 0};
+  std::string png = std::string("\x89PNG\r\n\x1a\n", 8) + PngChunk("IHDR", ihdr);
+  for (const std::string& chunk : extra_chunks) png += chunk;
+  return png + PngChunk("IDAT", std::string(reinterpret_cast<const char*>(compressed.data()), size)) +
+         PngChunk("IEND", "");
+}
+
+// Big-endian 16-bit samples of a W x H map.
+std::vector<uint8_t> Rows16(const std::vector<uint16_t>& values) {
+  std::vector<uint8_t> bytes;
+  for (uint16_t v : values) {
+    bytes.push_back(static_cast<uint8_t>(v >> 8));
+    bytes.push_back(static_cast<uint8_t>(v & 0xff));
+  }
+  return bytes;
+}
+
+TEST(DepthMapIo, Png16BitGrayscaleValuesAsStored) {
+  TempDir tmp;
+  const int w = 5, h = 4;
+  std::vector<uint16_t> values(w * h);
+  for (int i = 0; i < w * h; ++i) values[i] = static_cast<uint16_t>(1000 + 997 * i);
+  values[0] = 0;  // no depth
+  values[1] = 1;
+  values[2] = 65535;
+  values[7] = 256;
+  // Without colour-space chunks, and with a linear gAMA (1.0): the same integers.
+  const std::string gamma_linear = PngChunk("gAMA", std::string("\x00\x01\x86\xa0", 4));
+  for (const auto& extra : {std::vector<std::string>{}, std::vector<std::string>{gamma_linear}}) {
+    const std::string path = tmp.File("d.png");
+    WriteFile(path, MakePng(w, h, 16, 0, Rows16(values), extra));
+    const DepthMap map = ReadDepthMap(path);
+    ASSERT_EQ(map.width, w);
+    ASSERT_EQ(map.height, h);
+    ASSERT_EQ(map.data.size(), values.size());
+    for (size_t i = 0; i < values.size(); ++i) EXPECT_EQ(map.data[i], static_cast<float>(values[i])) << i;
+  }
+  // The uppercase extension too (as the other formats).
+  WriteFile(tmp.File("D.PNG"), MakePng(w, h, 16, 0, Rows16(values)));
+  EXPECT_EQ(ReadDepthMap(tmp.File("D.PNG")).data[2], 65535.0f);
+}
+
+TEST(DepthMapIo, PngErrorsSayWhatTheFileIs) {
+  TempDir tmp;
+  const std::string path = tmp.File("d.png");
+  auto expect = [&](const std::string& bytes, const std::string& fragment) {
+    WriteFile(path, bytes);
+    ExpectDepthError(path, fragment);
+  };
+  const std::vector<uint16_t> values = {5, 6, 7, 8, 9, 10};  // 3 x 2
+  const std::string good = MakePng(3, 2, 16, 0, Rows16(values));
+  expect(std::string("GIF89a") + good, "not a PNG file");
+  expect(MakePng(3, 2, 8, 2, std::vector<uint8_t>(18, 7)), "RGB PNG");
+  expect(MakePng(3, 2, 8, 2, std::vector<uint8_t>(18, 7)), "image folder");
+  expect(MakePng(3, 2, 8, 6, std::vector<uint8_t>(24, 7)), "RGBA PNG");
+  expect(MakePng(3, 2, 16, 4, std::vector<uint8_t>(24, 7)), "grayscale+alpha PNG");
+  expect(MakePng(3, 2, 8, 0, std::vector<uint8_t>(6, 7)), "8-bit grayscale PNG");
+  expect(MakePng(3, 2, 16, 0, Rows16(values), {PngChunk("sRGB", std::string(1, '\0'))}), "'sRGB' chunk");
+  expect(MakePng(3, 2, 16, 0, Rows16(values), {PngChunk("gAMA", std::string("\x00\x00\xb1\x8f", 4))}),
+         "'gAMA' chunk");
+  expect(good.substr(0, good.size() - 20), "truncated PNG chunk");
+  // A corrupt compressed stream with a consistent chunk structure: libpng's error, named.
+  std::string corrupt = good;
+  const size_t idat = corrupt.find("IDAT");
+  ASSERT_NE(idat, std::string::npos);
+  corrupt[idat + 6] = static_cast<char>(corrupt[idat + 6] ^ 0x5a);
+  expect(corrupt, "PNG");
+  expect(std::string("\x89PNG\r\n\x1a\n", 8) + PngChunk("IEND", ""), "without a header chunk");
+}
+
+// Random corruption of a valid 16-bit PNG (any byte, or a cut): a consistent map or a named error, nothing else.
+TEST(DepthMapIo, FuzzedPngNeverCrashes) {
+  TempDir tmp;
+  std::vector<uint16_t> values(8 * 6);
+  for (size_t i = 0; i < values.size(); ++i) values[i] = static_cast<uint16_t>(300 * i + 1);
+  const std::string good = MakePng(8, 6, 16, 0, Rows16(values));
+  std::mt19937 rng(7);
+  int parsed = 0, rejected = 0, other = 0;
+  const int kTrials = 600;
+  const std::string path = tmp.File("fuzz.png");
+  for (int trial = 0; trial < kTrials; ++trial) {
+    std::string bytes = good;
+    if (trial % 3 != 0) {
+      const int flips = 1 + static_cast<int>(rng() % 3);
+      for (int f = 0; f < flips; ++f) bytes[rng() % bytes.size()] = static_cast<char>(rng() & 0xff);
+    } else {
+      bytes.resize(rng() % bytes.size());
+    }
+    WriteFile(path, bytes);
+    try {
+      const DepthMap read = ReadDepthMap(path);
+      ++parsed;
+      if (read.Empty() || read.data.size() != static_cast<size_t>(read.width) * read.height) ++other;
+    } catch (const std::runtime_error& e) {
+      ++rejected;
+      if (!Contains(e.what(), "depth file '" + path + "': ")) ++other;
+    } catch (...) {
+      ++other;
+    }
+  }
+  std::printf("fuzzed 16-bit PNG depth files: %d parsed, %d rejected with a named error, %d other (of %d)\n", parsed,
+              rejected, other, kTrials);
+  EXPECT_EQ(other, 0);
+  EXPECT_GT(rejected, kTrials / 2);  // the chunk CRCs catch most flips
+}
+
 TEST(DepthMapIo, FindDepthSidecarLookupOrder) {
   TempDir tmp;
   const std::string dir = tmp.path();
@@ -278,7 +425,8 @@ TEST(DepthMapIo, FindDepthSidecarLookupOrder) {
   const std::vector<std::string> order = {"a/b.jpg.npy",           "a/b.npy",
                                           "a/b.jpg.pfm",           "a/b.pfm",
                                           "a/b.jpg.geometric.bin", "a/b.jpg.photometric.bin",
-                                          "a/b.jpg.bin"};
+                                          "a/b.jpg.bin",           "a/b.jpg.png",
+                                          "a/b.png"};
   std::filesystem::remove(tmp.File("a/b.jpg.bin"));
   for (size_t i = order.size(); i-- > 0;) {
     WriteFile(tmp.File(order[i]), "x");
@@ -292,6 +440,10 @@ TEST(DepthMapIo, FindDepthSidecarLookupOrder) {
   EXPECT_EQ(std::filesystem::path(FindDepthSidecar(dir, "v1.2/img.png").value()),
             std::filesystem::path(tmp.File("v1.2/img.npy")));
   EXPECT_FALSE(FindDepthSidecar(tmp.File("nonexistent"), "a/b.jpg").has_value());
+  // Sensor depth beside PNG images (TUM RGB-D style: rgb/1.png with depth/rgb/1.png under --depth_path).
+  WriteFile(tmp.File("rgb/1.png"), "x");
+  EXPECT_EQ(std::filesystem::path(FindDepthSidecar(dir, "rgb/1.png").value()),
+            std::filesystem::path(tmp.File("rgb/1.png")));
 }
 
 TEST(DepthMapIo, DisparityToDepth) {
