@@ -754,10 +754,12 @@ void Database::CreateMadsfmTables() {
            "camera_mode INTEGER NOT NULL, method INTEGER NOT NULL, num_inliers_reproj1 INTEGER NOT NULL, "
            "num_inliers_reproj2 INTEGER NOT NULL, num_inliers_sampson INTEGER NOT NULL, "
            "num_inliers INTEGER NOT NULL, score REAL, options_fingerprint TEXT, status INTEGER NOT NULL, "
-           "depth_observable INTEGER, sigma_scale REAL, sigma_shift1 REAL, sigma_shift2 REAL)");
+           "depth_observable INTEGER, sigma_scale REAL, sigma_shift1 REAL, sigma_shift2 REAL, sigma_focal1 REAL, "
+           "sigma_focal2 REAL)");
   // Tables written by madsfm versions before these columns: add them (NULL: unknown).
   const std::set<std::string> columns = TableColumns(db_, path_, kMadsfmPairsTable);
-  for (const char* c : {"depth_observable INTEGER", "sigma_scale REAL", "sigma_shift1 REAL", "sigma_shift2 REAL"}) {
+  for (const char* c : {"depth_observable INTEGER", "sigma_scale REAL", "sigma_shift1 REAL", "sigma_shift2 REAL",
+                        "sigma_focal1 REAL", "sigma_focal2 REAL"}) {
     const std::string name = std::string(c).substr(0, std::string(c).find(' '));
     if (!columns.count(name)) Exec(db_, path_, std::string("ALTER TABLE ") + kMadsfmPairsTable + " ADD COLUMN " + c);
   }
@@ -773,8 +775,9 @@ void Database::WriteMadsfmPair(const MadsfmPairRow& row) {
                  std::string("INSERT OR REPLACE INTO ") + kMadsfmPairsTable +
                      " (pair_id, image_id1, image_id2, R, t, scale, shift1, shift2, focal1, focal2, camera_mode, "
                      "method, num_inliers_reproj1, num_inliers_reproj2, num_inliers_sampson, num_inliers, score, "
-                     "options_fingerprint, status, depth_observable, sigma_scale, sigma_shift1, sigma_shift2) VALUES "
-                     "(?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+                     "options_fingerprint, status, depth_observable, sigma_scale, sigma_shift1, sigma_shift2, "
+                     "sigma_focal1, sigma_focal2) VALUES "
+                     "(?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
   stmt.BindInt64(1, static_cast<int64_t>(row.pair_id));
   stmt.BindInt64(2, id1);
   stmt.BindInt64(3, id2);
@@ -798,6 +801,8 @@ void Database::WriteMadsfmPair(const MadsfmPairRow& row) {
   stmt.BindDouble(21, row.sigma_scale);
   stmt.BindDouble(22, row.sigma_shift1);
   stmt.BindDouble(23, row.sigma_shift2);
+  stmt.BindDouble(24, row.sigma_focal1);
+  stmt.BindDouble(25, row.sigma_focal2);
   stmt.Run();
   transaction.Commit();
 }
@@ -810,10 +815,11 @@ constexpr const char* kMadsfmPairColumns =
 // The columns added later, or NULLs in their place for a table written before them (a read-only database is not
 // migrated).
 std::string MadsfmPairSelect(sqlite3* db, const std::string& path) {
-  const bool has = TableColumns(db, path, kMadsfmPairsTable).count("depth_observable") > 0;
+  const std::set<std::string> columns = TableColumns(db, path, kMadsfmPairsTable);
+  const bool has = columns.count("depth_observable") > 0, has_focal = columns.count("sigma_focal1") > 0;
   return std::string("SELECT ") + kMadsfmPairColumns +
          (has ? ", depth_observable, sigma_scale, sigma_shift1, sigma_shift2" : ", NULL, NULL, NULL, NULL") +
-         " FROM " + kMadsfmPairsTable;
+         (has_focal ? ", sigma_focal1, sigma_focal2" : ", NULL, NULL") + " FROM " + kMadsfmPairsTable;
 }
 
 MadsfmPairRow ReadMadsfmPairRow(const Statement& stmt, const Database& db) {
@@ -847,6 +853,8 @@ MadsfmPairRow ReadMadsfmPairRow(const Statement& stmt, const Database& db) {
   row.sigma_scale = stmt.Double(18);
   row.sigma_shift1 = stmt.Double(19);
   row.sigma_shift2 = stmt.Double(20);
+  row.sigma_focal1 = stmt.Double(21);
+  row.sigma_focal2 = stmt.Double(22);
   return row;
 }
 

@@ -92,6 +92,10 @@ struct MadsfmPairRow {
   double sigma_scale = std::numeric_limits<double>::quiet_NaN();
   double sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
   double sigma_shift2 = std::numeric_limits<double>::quiet_NaN();
+  // Focal modes: relative standard deviations of focal1 / focal2 with pose, scale and shifts free
+  // (HybridEstimate::sigma_focal0/1); NaN when calibrated, unknown or written before madsfm stored them.
+  double sigma_focal1 = std::numeric_limits<double>::quiet_NaN();
+  double sigma_focal2 = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Thread safety: the connection is opened in SQLite's serialized mode and every call prepares its own statements, so

@@ -16,7 +16,8 @@ int RunFocalEstimator(int argc, char** argv) {
       "Aggregates the pairwise focal estimates of two_view_estimator into one focal length per camera (weighted by\n"
       "inliers, outlier-rejecting; only pairs estimated with depth priors count) and writes it into the cameras\n"
       "table, for cameras without a prior (all with --overwrite 1). Trusted estimates (>= min_prior_pairs pairs\n"
-      "within prior_agreement of it, >= min_prior_fraction of the pairs) become priors (prior_focal_length = 1);\n"
+      "within prior_agreement of it and each with a relative sigma <= prior_max_pair_sigma, >= min_prior_fraction\n"
+      "of the pairs) become priors (prior_focal_length = 1);\n"
       "others only initial values (prior_focal_length = 0) that COLMAP refines. Cameras without depth-backed\n"
       "pairs keep COLMAP's row.");
   parser.AddRequired("database_path", &o.database_path, "COLMAP database processed by two_view_estimator.");
@@ -25,6 +26,9 @@ int RunFocalEstimator(int argc, char** argv) {
   parser.AddDefault("min_prior_pairs", &o.min_prior_pairs, "Trusted (a prior): at least this many pairs agree ...");
   parser.AddDefault("prior_agreement", &o.prior_agreement, "... within this relative difference of the estimate ...");
   parser.AddDefault("min_prior_fraction", &o.min_prior_fraction, "... and at least this fraction of the pairs.");
+  parser.AddDefault("prior_max_pair_sigma", &o.prior_max_pair_sigma,
+                    "An agreeing pair determines its focal to this relative standard deviation (pose, scale and\n"
+                    "shifts free; pairs of an older madsfm, without it, do not count).");
   if (!parser.Parse(argc, argv, 2)) return EXIT_FAILURE;
   if (parser.help_requested()) return EXIT_SUCCESS;
   try {

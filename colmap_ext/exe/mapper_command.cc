@@ -54,6 +54,8 @@ int RunMapper(int argc, char** argv) {
                     "A focal estimate becomes a prior when at least this many depth-backed pairs agree ...");
   parser.AddDefault("prior_agreement", &o.focal.prior_agreement, "... within this relative difference ...");
   parser.AddDefault("min_prior_fraction", &o.focal.min_prior_fraction, "... and they are this fraction of the pairs.");
+  parser.AddDefault("prior_max_pair_sigma", &o.focal.prior_max_pair_sigma,
+                    "... each determining its focal to this relative standard deviation.");
   parser.AddDefault("relaxed_init_min_tri_angle", &o.relaxed_init_min_tri_angle,
                     "--Mapper.init_min_tri_angle of the relaxed unseeded run (COLMAP's default: 16).");
   parser.AddDefault("relaxed_init_min_num_inliers", &o.relaxed_init_min_num_inliers,

@@ -96,6 +96,10 @@ nlohmann::json ResultJson(const PairResult& r) {
     j["sigma_scale"] = r.sigma_scale;
     j["sigma_shift0"] = r.sigma_shift0;
     j["sigma_shift1"] = r.sigma_shift1;
+    if (r.camera_mode != "calibrated") {
+      j["sigma_focal0"] = r.sigma_focal0;
+      j["sigma_focal1"] = r.sigma_focal1;
+    }
   }
   j["iterations"] = r.iterations;
   j["runtime_ms"] = r.runtime_ms;

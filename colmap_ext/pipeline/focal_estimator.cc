@@ -70,10 +70,10 @@ std::vector<FocalChange> RunFocalEstimatorImpl(const FocalEstimatorOptions& opti
     colmap::PairIdToImagePair(row.pair_id, &i1, &i2);
     const double w = row.num_inliers;
     if (row.camera_mode == static_cast<int>(CameraMode::kSharedFocal) && camera_of[i1] == camera_of[i2]) {
-      samples[camera_of[i1]].push_back({row.focal1, w});
+      samples[camera_of[i1]].push_back({row.focal1, w, row.sigma_focal1});
     } else {
-      samples[camera_of[i1]].push_back({row.focal1, w});
-      samples[camera_of[i2]].push_back({row.focal2, w});
+      samples[camera_of[i1]].push_back({row.focal1, w, row.sigma_focal1});
+      samples[camera_of[i2]].push_back({row.focal2, w, row.sigma_focal2});
     }
   }
   std::vector<FocalChange> changes;
@@ -89,7 +89,9 @@ std::vector<FocalChange> RunFocalEstimatorImpl(const FocalEstimatorOptions& opti
     c.spread = a.spread;
     c.num_samples = static_cast<int>(cam_samples.size());
     for (const FocalSample& s : cam_samples) {
-      c.num_agreeing += a.focal > 0 && std::abs(s.focal / a.focal - 1.0) <= options.prior_agreement;
+      // (NaN sigma, a row of an older madsfm: not counted.)
+      c.num_agreeing += a.focal > 0 && std::abs(s.focal / a.focal - 1.0) <= options.prior_agreement &&
+                        s.sigma <= options.prior_max_pair_sigma;
     }
     if (a.num_used > 0 && (!cam.prior_focal_length || options.overwrite)) {
       c.trusted = c.num_agreeing >= options.min_prior_pairs &&

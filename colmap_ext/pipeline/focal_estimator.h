@@ -1,15 +1,18 @@
 // `madsfm focal_estimator`: one focal length per camera from the pairwise estimates of two_view_estimator.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace madsfm {
 
-// A pairwise focal estimate of one camera, weighted by the pair's inliers.
+// A pairwise focal estimate of one camera, weighted by the pair's inliers, with its relative standard deviation
+// (MadsfmPairRow::sigma_focal1/2; NaN: unknown).
 struct FocalSample {
   double focal = 0.0;
   double weight = 0.0;
+  double sigma = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct FocalAggregate {
@@ -31,6 +34,11 @@ FocalAggregate AggregateFocal(const std::vector<FocalSample>& samples);
 // (relative) of the aggregate, and they are at least min_prior_fraction of all its depth-backed estimates. Cameras
 // with evidence that is not trusted get the aggregate as an initial value only (prior_focal_length = 0, bundle
 // adjustment and absolute pose refine it); cameras without depth-backed estimates keep COLMAP's row.
+// An estimate agrees only when the pair also determines its focal: relative standard deviation (pose, scale and
+// shifts free) at most prior_max_pair_sigma. Where a small baseline with little rotation lets focal length, shifts
+// and translation trade off, all pairs of a scene can agree on a focal the data do not fix: on the real RGB-D frames
+// of docs/benchmarks.md section 9 they agreed within 3% on a focal 5% off, each with a sigma of 0.7-1.3%, where
+// the synthetic walks' pairs have 0.1-0.5%.
 struct FocalEstimatorOptions {
   std::string database_path;
   bool overwrite = false;          // also cameras that already have a focal prior
@@ -38,6 +46,7 @@ struct FocalEstimatorOptions {
   int min_prior_pairs = 5;         // trusted: at least this many depth-backed estimates agree ...
   double prior_agreement = 0.03;   // ... within this relative difference of the aggregate ...
   double min_prior_fraction = 0.5; // ... and they are at least this fraction of the camera's estimates
+  double prior_max_pair_sigma = 0.0075;  // an agreeing estimate's relative standard deviation is at most this
 };
 
 struct FocalChange {
@@ -45,7 +54,7 @@ struct FocalChange {
   double old_focal = 0, new_focal = 0, spread = 0;
   int num_pairs = 0;      // estimates kept by AggregateFocal
   int num_samples = 0;    // depth-backed estimates of the camera
-  int num_agreeing = 0;   // of which within prior_agreement of the aggregate
+  int num_agreeing = 0;   // of which within prior_agreement of the aggregate, with sigma <= prior_max_pair_sigma
   bool updated = false;   // the focal value was written
   bool trusted = false;   // ... with prior_focal_length = 1
   bool had_prior = false;

@@ -187,8 +187,9 @@ FocalFixDecision DecideFocalFix(const FocalChange& estimate, double focal_after_
   if (low_parallax_rule && d.drift > allowed) {
     std::snprintf(buf, sizeof(buf),
                   "      low parallax: bundle adjustment moved the focal from %.1f to %.1f px (%.1f%%, beyond the %.1f%% "
-                  "its %d depth-backed pairs support); running again with the focal fixed",
-                  estimate.new_focal, focal_after_ba, 100 * d.drift, 100 * allowed, estimate.num_pairs);
+                  "its %d depth-backed pairs support; its own sigma %.2f%%); running again with the focal fixed",
+                  estimate.new_focal, focal_after_ba, 100 * d.drift, 100 * allowed, estimate.num_pairs,
+                  ba ? 100 * ba->Relative() : -1.0);
     d.fix = true;
     d.reason = buf;
     return d;
@@ -252,9 +253,11 @@ MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<vo
     if (c.updated) ++updated;
     if (c.updated) {
       std::snprintf(buf, sizeof(buf),
-                    "      camera %u: focal %.1f -> %.1f px (%d of %d depth-backed pairs within %.0f%%)%s",
-                    c.camera_id, c.old_focal, c.new_focal, c.num_agreeing, c.num_samples,
-                    100 * fo.prior_agreement, c.trusted ? ": prior" : ": initial value only (prior_focal_length = 0)");
+                    "      camera %u: focal %.1f -> %.1f px (%d of %d depth-backed pairs within %.0f%%, sigma <= "
+                    "%.2f%%)%s",
+                    c.camera_id, c.old_focal, c.new_focal, c.num_agreeing, c.num_samples, 100 * fo.prior_agreement,
+                    100 * fo.prior_max_pair_sigma,
+                    c.trusted ? ": prior" : ": initial value only (prior_focal_length = 0)");
       say(false, buf);
     } else if (!c.had_prior && c.num_samples == 0) {
       std::snprintf(buf, sizeof(buf), "      camera %u: no depth-backed pair estimates, COLMAP's focal %.1f px kept",
@@ -374,7 +377,7 @@ MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<vo
         const colmap::CameraIntrinsics& k = cam->second.intrinsics;
         const double f_ba = 0.5 * (k.FocalX() + k.FocalY());
         std::optional<colmap::FocalUncertainty> u;
-        if (options.fix_focal_ba_uncertain) u = colmap::BundleFocalUncertainty(model, fc.camera_id);
+        u = colmap::BundleFocalUncertainty(model, fc.camera_id);
         if (u) s.focal_ba_sigma = u->Relative();
         const FocalFixDecision d = DecideFocalFix(fc, f_ba, u, low_parallax, options.fix_focal_ba_uncertain);
         s.focal_drift = d.drift;

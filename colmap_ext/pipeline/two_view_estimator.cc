@@ -197,6 +197,8 @@ colmap::MadsfmPairRow MakeMadsfmRow(const PairJob& job, const std::string& finge
     row.sigma_scale = job.estimate.sigma_scale;
     row.sigma_shift1 = job.estimate.sigma_shift0;
     row.sigma_shift2 = job.estimate.sigma_shift1;
+    row.sigma_focal1 = job.estimate.sigma_focal0;
+    row.sigma_focal2 = job.estimate.sigma_focal1;
     row.score = job.estimate.score;
   }
   return row;
@@ -278,11 +280,12 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version changes with the estimator's results ("madsfm-5": more
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-6": the focal
+  // lengths' standard deviations stored; "madsfm-5": more
   // iterations for two-focal point-only searches; "madsfm-4": the epipolar
   // focal lengths where they are precise; "madsfm-3": other basins' minimal models optimised, depth-less results
   // searched again), so pairs done by an older madsfm are estimated again.
-  s << "madsfm-5;mode=" << o.camera_mode << ";depth=" << depth
+  s << "madsfm-6;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";cheir="

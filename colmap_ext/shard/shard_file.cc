@@ -145,6 +145,9 @@ std::vector<unsigned char> EncodeMadsfm(const MadsfmPairRow& m) {
   w.Put(static_cast<int32_t>(m.depth_observable));
   const double sigmas[3] = {m.sigma_scale, m.sigma_shift1, m.sigma_shift2};
   w.PutDoubles(sigmas, 3);
+  // Since the focal standard deviations were stored: 2 doubles (older shards end before).
+  const double focal_sigmas[2] = {m.sigma_focal1, m.sigma_focal2};
+  w.PutDoubles(focal_sigmas, 2);
   return w.bytes();
 }
 
@@ -174,6 +177,12 @@ MadsfmPairRow DecodeMadsfm(pair_t pair_id, const std::string& options_fingerprin
     m.sigma_scale = sigmas[0];
     m.sigma_shift1 = sigmas[1];
     m.sigma_shift2 = sigmas[2];
+  }
+  if (r.remaining() > 0) {  // shards written before the focal standard deviations end here
+    double focal_sigmas[2];
+    r.GetDoubles(focal_sigmas, 2);
+    m.sigma_focal1 = focal_sigmas[0];
+    m.sigma_focal2 = focal_sigmas[1];
   }
   r.ExpectEnd();
   return m;

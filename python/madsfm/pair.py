@@ -66,6 +66,8 @@ def result_json(path, method, result, pair):
                         "sampson": result.num_inliers_sampson}
         j.update(depth_observable=result.depth_observable, sigma_scale=result.sigma_scale,
                  sigma_shift0=result.sigma_shift0, sigma_shift1=result.sigma_shift1)
+        if result.camera_mode != "calibrated":
+            j.update(sigma_focal0=result.sigma_focal0, sigma_focal1=result.sigma_focal1)
     j["iterations"] = result.iterations
     j["runtime_ms"] = result.runtime_ms
     j.update(_errors(result, pair, result.camera_mode))

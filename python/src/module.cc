@@ -329,6 +329,8 @@ const std::vector<std::pair<const char*, ResultGetter>>& ResultFields() {
       {"sigma_scale", [](R r) -> py::object { return py::float_(r.estimate.sigma_scale); }},
       {"sigma_shift0", [](R r) -> py::object { return py::float_(r.estimate.sigma_shift0); }},
       {"sigma_shift1", [](R r) -> py::object { return py::float_(r.estimate.sigma_shift1); }},
+      {"sigma_focal0", [](R r) -> py::object { return py::float_(r.estimate.sigma_focal0); }},
+      {"sigma_focal1", [](R r) -> py::object { return py::float_(r.estimate.sigma_focal1); }},
       {"runtime_ms", [](R r) -> py::object { return py::float_(r.estimate.runtime_ms); }},
       {"notes", [](R r) -> py::object { return py::cast(r.notes); }},
   };
@@ -398,6 +400,8 @@ py::dict ResultState(const RelativePoseResult& r) {
   d["sigma_scale"] = e.sigma_scale;
   d["sigma_shift0"] = e.sigma_shift0;
   d["sigma_shift1"] = e.sigma_shift1;
+  d["sigma_focal0"] = e.sigma_focal0;
+  d["sigma_focal1"] = e.sigma_focal1;
   d["runtime_ms"] = e.runtime_ms;
   return d;
 }
@@ -447,6 +451,11 @@ RelativePoseResult ResultFromState(const py::dict& d) {
     e.sigma_scale = get("sigma_scale").cast<double>();
     e.sigma_shift0 = get("sigma_shift0").cast<double>();
     e.sigma_shift1 = get("sigma_shift1").cast<double>();
+  }
+  // Added later still (absent: unknown).
+  if (d.contains("sigma_focal0")) {
+    e.sigma_focal0 = get("sigma_focal0").cast<double>();
+    e.sigma_focal1 = get("sigma_focal1").cast<double>();
   }
   e.runtime_ms = get("runtime_ms").cast<double>();
   return r;

@@ -30,6 +30,8 @@ def assert_equals_cli_json(result, j):
     np.testing.assert_array_equal(result.t, j["t"])
     for name in ("scale", "shift0", "shift1", "f0", "f1"):
         assert getattr(result, name) == j[name], name
+    if result.camera_mode != "calibrated":
+        assert (result.sigma_focal0, result.sigma_focal1) == (j["sigma_focal0"], j["sigma_focal1"])
     assert (result.num_inliers_reproj0, result.num_inliers_reproj1, result.num_inliers_sampson) == (
         j["inliers"]["reproj_0to1"], j["inliers"]["reproj_1to0"], j["inliers"]["sampson"])
     # The masks agree with the counts.

@@ -154,6 +154,11 @@ struct HybridEstimate {
   double sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
   double sigma_scale = std::numeric_limits<double>::quiet_NaN();
   bool depth_observable = false;
+  // Focal modes: relative standard deviations of f0 and f1 at the final model, pose, scale and shifts free (the
+  // marginal Gauss-Newton ones; shared focal: both the same); NaN when calibrated or not computable. Large where
+  // the data leave the focal length open (small baselines with little rotation, forward motion).
+  double sigma_focal0 = std::numeric_limits<double>::quiet_NaN();
+  double sigma_focal1 = std::numeric_limits<double>::quiet_NaN();
   double runtime_ms = 0.0;
 };
 

@@ -75,6 +75,7 @@ class Engine {
   void FitDepthCorrections(AffineDepthPose* model, double* score, HybridEstimate* result);
   void LeanOnEpipolarEvidence(AffineDepthPose* model, double* score);
   void TakeEpipolarFocal(AffineDepthPose* model, double* score);
+  void FocalSigmas(const AffineDepthPose& model, HybridEstimate* result) const;
   bool KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineDepthPose* model, double* score);
 
   const RelposeProblem& p_;
@@ -224,6 +225,25 @@ void Engine::TakeEpipolarFocal(AffineDepthPose* model, double* score) {
   if (!rejects) return;
   FitDepthParameters(p_, inliers_.sampson, w_.use_shift, &refined);
   KeepIfEpipolarInliersRemain(refined, model, score);
+}
+
+// Focal modes: the standard deviations of the focal lengths at the final model under the cost of its data types
+// (reprojection and Sampson inliers), pose, scale and shifts free, i.e. the marginal ones. Where a small baseline with
+// little rotation lets focal length, shifts and translation trade off along a flat valley, they are large however
+// well the model fits: the focal of such a pair is not evidence (focal_estimator weighs it accordingly).
+void Engine::FocalSigmas(const AffineDepthPose& model, HybridEstimate* result) const {
+  RelposeRefinerOptions ro = RefinerOptions(0);
+  ro.refine_focal = true;
+  ro.refine_depth = w_.use_reprojection;
+  const std::vector<int> none;
+  AffineDepthPose m = model;
+  RelposeRefinerSummary sum;
+  if (!RefineRelpose(p_, w_.use_reprojection ? inliers_.reproj0 : none, w_.use_reprojection ? inliers_.reproj1 : none,
+                     w_.use_sampson ? inliers_.sampson : none, ro, &m, &sum)) {
+    return;
+  }
+  result->sigma_focal0 = sum.sigma_f0 / m.f0;
+  result->sigma_focal1 = p_.mode == CameraMode::kTwoFocal ? sum.sigma_f1 / m.f1 : result->sigma_focal0;
 }
 
 // Local optimisation in the manner of Lebeda et al. 2012 (LO+ with inner samples and a threshold schedule), as
@@ -512,6 +532,7 @@ HybridEstimate Engine::Run() {
     } else if (o_.final_depth_fit) {
       FitDepthCorrections(&best, &best_score, &result);
     }
+    if (p_.mode != CameraMode::kCalibrated) FocalSigmas(best, &result);
     result.depth_observable = w_.use_reprojection && result.sigma_shift0 <= o_.max_depth_sigma &&
                               result.sigma_shift1 <= o_.max_depth_sigma && result.sigma_scale <= o_.max_depth_sigma;
     result.model = best;

@@ -165,6 +165,8 @@ PairResult EvaluatePair(const PairData& pair, CameraMode mode, const std::string
     r.sigma_scale = est.sigma_scale;
     r.sigma_shift0 = est.sigma_shift0;
     r.sigma_shift1 = est.sigma_shift1;
+    r.sigma_focal0 = est.sigma_focal0;
+    r.sigma_focal1 = est.sigma_focal1;
   }
 
   if (pair.T_0to1) {

@@ -36,6 +36,9 @@ struct PairResult {
   double sigma_scale = std::numeric_limits<double>::quiet_NaN();
   double sigma_shift0 = std::numeric_limits<double>::quiet_NaN();
   double sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
+  // Focal modes: relative standard deviations of the focal lengths (HybridEstimate::sigma_focal0/1).
+  double sigma_focal0 = std::numeric_limits<double>::quiet_NaN();
+  double sigma_focal1 = std::numeric_limits<double>::quiet_NaN();
   int iterations = 0;
   double runtime_ms = 0.0;  // estimator only (not file reading)
   // Errors against T_0to1 / K when the pair has a ground truth; failures count as 180 deg and focal error 1.

@@ -564,6 +564,8 @@ MadsfmPairRow MakeMadsfmRow(pair_t pair_id, double seed) {
   row.sigma_scale = 0.0625 * seed;
   row.sigma_shift1 = 0.25;
   row.sigma_shift2 = std::numeric_limits<double>::quiet_NaN();  // not fitted
+  row.sigma_focal1 = 0.00390625 * seed;
+  row.sigma_focal2 = std::numeric_limits<double>::quiet_NaN();  // calibrated in this view
   return row;
 }
 
@@ -597,6 +599,8 @@ void ExpectSameMadsfmRow(const MadsfmPairRow& a, const MadsfmPairRow& b) {
   EXPECT_EQ(a.sigma_scale, b.sigma_scale);
   EXPECT_EQ(a.sigma_shift1, b.sigma_shift1);
   ExpectSameOrBothNan(a.sigma_shift2, b.sigma_shift2);
+  ExpectSameOrBothNan(a.sigma_focal1, b.sigma_focal1);
+  ExpectSameOrBothNan(a.sigma_focal2, b.sigma_focal2);
 }
 
 // The whole write / read-back / backup / restore scenario on one populated database.
@@ -1351,7 +1355,8 @@ TEST_F(SyntheticDatabase, MadsfmTableWithoutObservabilityColumnsIsReadAndMigrate
   {  // drop the four columns (SQLite >= 3.35)
     sqlite3* raw = nullptr;
     ASSERT_EQ(sqlite3_open(path.c_str(), &raw), SQLITE_OK);
-    for (const char* c : {"depth_observable", "sigma_scale", "sigma_shift1", "sigma_shift2"}) {
+    for (const char* c :
+         {"depth_observable", "sigma_scale", "sigma_shift1", "sigma_shift2", "sigma_focal1", "sigma_focal2"}) {
       ASSERT_EQ(sqlite3_exec(raw, (std::string("ALTER TABLE madsfm_two_view_geometries DROP COLUMN ") + c).c_str(),
                              nullptr, nullptr, nullptr),
                 SQLITE_OK)
@@ -1365,6 +1370,7 @@ TEST_F(SyntheticDatabase, MadsfmTableWithoutObservabilityColumnsIsReadAndMigrate
     ASSERT_TRUE(row.has_value());
     EXPECT_EQ(row->depth_observable, -1);
     EXPECT_TRUE(std::isnan(row->sigma_scale));
+    EXPECT_TRUE(std::isnan(row->sigma_focal1));
     EXPECT_EQ(row->num_inliers, 140);
   }
   auto db = Database::Open(path);
@@ -1372,6 +1378,37 @@ TEST_F(SyntheticDatabase, MadsfmTableWithoutObservabilityColumnsIsReadAndMigrate
   const auto rows = db->ReadMadsfmPairs();
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_EQ(rows[0].depth_observable, -1);  // the old row
+  ExpectSameMadsfmRow(rows[1], MakeMadsfmRow(ImagePairToPairId(2, 3), 3));
+}
+
+// A madsfm table of madsfm-5 (observability columns, no focal standard deviations): those read as NaN, the rest as
+// stored; the first write adds the columns.
+TEST_F(SyntheticDatabase, MadsfmTableWithoutFocalSigmaColumnsIsReadAndMigrated) {
+  const std::string path = MakeDb("madsfm_table_v5.db");
+  {
+    auto db = Database::Open(path);
+    db->WriteMadsfmPair(MakeMadsfmRow(ImagePairToPairId(1, 2), 2));
+  }
+  {
+    RawDb raw(path);
+    for (const char* c : {"sigma_focal1", "sigma_focal2"}) {
+      raw.Exec(std::string("ALTER TABLE madsfm_two_view_geometries DROP COLUMN ") + c);
+    }
+  }
+  {
+    auto db = Database::Open(path, /*read_only=*/true);
+    const auto row = db->ReadMadsfmPair(ImagePairToPairId(1, 2));
+    ASSERT_TRUE(row.has_value());
+    EXPECT_EQ(row->depth_observable, 1);
+    EXPECT_EQ(row->sigma_scale, 0.125);
+    EXPECT_TRUE(std::isnan(row->sigma_focal1));
+    EXPECT_TRUE(std::isnan(row->sigma_focal2));
+  }
+  auto db = Database::Open(path);
+  db->WriteMadsfmPair(MakeMadsfmRow(ImagePairToPairId(2, 3), 3));
+  const auto rows = db->ReadMadsfmPairs();
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_TRUE(std::isnan(rows[0].sigma_focal1));  // the old row
   ExpectSameMadsfmRow(rows[1], MakeMadsfmRow(ImagePairToPairId(2, 3), 3));
 }
 

@@ -289,11 +289,24 @@ TEST(TwoViewEstimator, FocalBecomesAPriorOnlyWhenEnoughPairsAgree) {
     auto db = colmap::Database::Open(p.db, true);
     EXPECT_FALSE(db->ReadCameras()[0].prior_focal_length);
   }
-  fo.prior_agreement = 10.0;  // every estimate "agrees"
+  // Every estimate within the tolerance, but none precise enough: still only an initial value.
+  fo.prior_agreement = 10.0;
+  fo.prior_max_pair_sigma = 1e-6;
+  changes = RunFocalEstimatorImpl(fo);
+  EXPECT_EQ(changes[0].num_agreeing, 0);
+  EXPECT_FALSE(changes[0].trusted);
+  fo.prior_max_pair_sigma = 1.0;  // every estimate "agrees"
   changes = RunFocalEstimatorImpl(fo);
   EXPECT_EQ(changes[0].num_agreeing, 6);
   EXPECT_TRUE(changes[0].trusted);
   auto db = colmap::Database::Open(p.db, true);
+  // The pairs' focal standard deviations are stored (shared focal: the same for both images), small but not zero
+  // on these wide-baseline pairs.
+  for (const colmap::MadsfmPairRow& row : db->ReadMadsfmPairs()) {
+    EXPECT_GT(row.sigma_focal1, 0.0);
+    EXPECT_LT(row.sigma_focal1, 0.05);
+    EXPECT_EQ(row.sigma_focal1, row.sigma_focal2);
+  }
   const auto cameras = db->ReadCameras();
   EXPECT_TRUE(cameras[0].prior_focal_length);
   for (size_t k = 1; k < cameras.size(); ++k) EXPECT_FALSE(cameras[k].prior_focal_length);

@@ -89,6 +89,8 @@ ShardResult SomeResult(pair_t pair_id, bool with_geometry, bool calibrated) {
   r.madsfm.sigma_scale = 0.03125;
   r.madsfm.sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
   r.madsfm.sigma_shift2 = 0.5;
+  r.madsfm.sigma_focal1 = 0.0078125;
+  r.madsfm.sigma_focal2 = std::numeric_limits<double>::quiet_NaN();
   return r;
 }
 
@@ -104,11 +106,20 @@ void ExpectSameResult(const ShardResult& a, const ShardResult& b) {
     ASSERT_EQ(x.F.has_value(), y.F.has_value());
     ASSERT_EQ(x.E.has_value(), y.E.has_value());
     ASSERT_EQ(x.H.has_value(), y.H.has_value());
-    if (x.F) EXPECT_EQ(*x.F, *y.F);
-    if (x.E) EXPECT_EQ(*x.E, *y.E);
+    if (x.F) {
+      EXPECT_EQ(*x.F, *y.F);
+    }
+    if (x.E) {
+      EXPECT_EQ(*x.E, *y.E);
+    }
+    if (x.H) {
+      EXPECT_EQ(*x.H, *y.H);
+    }
     ASSERT_EQ(x.qvec.has_value(), y.qvec.has_value());
     ASSERT_EQ(x.tvec.has_value(), y.tvec.has_value());
-    if (x.qvec) EXPECT_EQ(*x.qvec, *y.qvec);
+    if (x.qvec) {
+      EXPECT_EQ(*x.qvec, *y.qvec);
+    }
     if (x.tvec) {
       for (int i = 0; i < 3; ++i) EXPECT_TRUE(SameBits((*x.tvec)(i), (*y.tvec)(i)));
     }
@@ -128,7 +139,8 @@ void ExpectSameResult(const ShardResult& a, const ShardResult& b) {
   EXPECT_EQ(m.t, n.t);
   for (auto [u, v] : {std::pair{m.scale, n.scale}, {m.shift1, n.shift1}, {m.shift2, n.shift2},
                       {m.focal1, n.focal1}, {m.focal2, n.focal2}, {m.score, n.score}, {m.sigma_scale, n.sigma_scale},
-                      {m.sigma_shift1, n.sigma_shift1}, {m.sigma_shift2, n.sigma_shift2}}) {
+                      {m.sigma_shift1, n.sigma_shift1}, {m.sigma_shift2, n.sigma_shift2},
+                      {m.sigma_focal1, n.sigma_focal1}, {m.sigma_focal2, n.sigma_focal2}}) {
     EXPECT_TRUE(SameBits(u, v)) << u << " vs " << v;
   }
   EXPECT_EQ(m.camera_mode, n.camera_mode);
@@ -268,8 +280,33 @@ TEST(ShardFile, OpenRejectsAnotherFormatAndBadInfo) {
             std::string::npos);
 }
 
-// Shards written before the depth observability was stored end after the status: read as unknown (-1, NaN); a
-// partial trailing section or an out-of-range flag is an error naming the file.
+// Shards written before the focal standard deviations were stored end after the depth sigmas, and those written
+// before the depth observability end after the status: read as unknown (-1, NaN); a partial trailing section or an
+// out-of-range flag is an error naming the file.
+TEST(ShardFile, ResultsWithoutTheFocalSigmasReadAsUnknown) {
+  const std::string path = TempPath("old_focal_blob.sqlite");
+  const pair_t p = ImagePairToPairId(1, 2);
+  {
+    auto shard = ShardFile::Create(path, SomeInfo(), {p});
+    shard->Begin();
+    shard->WriteResult(SomeResult(p, true, true));
+    shard->Commit();
+  }
+  testing::ExecSql(path, "UPDATE madsfm_shard_results SET madsfm = substr(madsfm, 1, length(madsfm) - 16)");
+  int n = 0;
+  ShardFile::Open(path, true)->ForEachResult([&](const ShardResult& r) {
+    ++n;
+    EXPECT_EQ(r.madsfm.depth_observable, 1);
+    EXPECT_EQ(r.madsfm.sigma_scale, 0.03125);
+    EXPECT_TRUE(std::isnan(r.madsfm.sigma_focal1));
+    EXPECT_TRUE(std::isnan(r.madsfm.sigma_focal2));
+  });
+  EXPECT_EQ(n, 1);
+  testing::ExecSql(path, "UPDATE madsfm_shard_results SET madsfm = madsfm || x'0000000000000000'");
+  const std::string e = ErrorOf([&] { ShardFile::Open(path, true)->ForEachResult([](const ShardResult&) {}); });
+  EXPECT_NE(e.find("shard file '" + path + "'"), std::string::npos) << e;
+}
+
 TEST(ShardFile, ResultsWithoutTheObservabilitySectionReadAsUnknown) {
   const std::string path = TempPath("old_blob.sqlite");
   const pair_t p = ImagePairToPairId(1, 2);
@@ -279,7 +316,7 @@ TEST(ShardFile, ResultsWithoutTheObservabilitySectionReadAsUnknown) {
     shard->WriteResult(SomeResult(p, true, true));
     shard->Commit();
   }
-  testing::ExecSql(path, "UPDATE madsfm_shard_results SET madsfm = substr(madsfm, 1, length(madsfm) - 28)");
+  testing::ExecSql(path, "UPDATE madsfm_shard_results SET madsfm = substr(madsfm, 1, length(madsfm) - 44)");
   int n = 0;
   ShardFile::Open(path, true)->ForEachResult([&](const ShardResult& r) {
     ++n;
