@@ -39,6 +39,9 @@ struct EstimatorFlags {
     parser->AddDefault("confidence", &options.confidence, "Confidence of the adaptive stopping criterion.");
     parser->AddDefault("final_reprojection_weight", &options.final_reprojection_weight,
                        "Weight of the reprojection terms in a last refinement (1: the paper's joint cost only).");
+    parser->AddDefault("final_cauchy_ratio", &options.final_cauchy_ratio,
+                       "Cauchy loss of the last refinement, scale = this x the epipolar inliers' robust noise level "
+                       "(0: least squares).");
     parser->AddDefault("epipolar_focal_max_sigma", &options.epipolar_focal_max_sigma,
                        "Focal modes: take the epipolar inliers' own focal lengths where their relative standard "
                        "deviation is at most this and they differ from the joint ones by > 3 deviations (0: never).");

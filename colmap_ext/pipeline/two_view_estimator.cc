@@ -281,7 +281,7 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
   // Every option that changes a result. The version changes with the estimator's results ("madsfm-6": the focal
-  // lengths' standard deviations stored; "madsfm-5": more
+  // lengths' standard deviations stored, the robust last refinement; "madsfm-5": more
   // iterations for two-focal point-only searches; "madsfm-4": the epipolar
   // focal lengths where they are precise; "madsfm-3": other basins' minimal models optimised, depth-less results
   // searched again), so pairs done by an older madsfm are estimated again.
@@ -294,7 +294,7 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/"
     << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.alt_basin_lo_margin
     << ";final=" << e.final_refinement << "/" << e.final_max_lm_iterations << "/" << e.final_reprojection_weight
-    << "/" << e.epipolar_focal_max_sigma
+    << "/" << e.epipolar_focal_max_sigma << "/" << e.final_cauchy_ratio
     << ";check=" << e.epipolar_check_ratio << "/" << e.retry_depth_less
     << ";depth_fit=" << e.max_shift_ratio << "/" << e.final_depth_fit << "/" << e.depth_fit_regression << "/"
     << e.max_depth_sigma << ";seed=" << e.seed;

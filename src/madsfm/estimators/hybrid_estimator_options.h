@@ -93,6 +93,12 @@ struct HybridEstimatorOptions {
   // where their relative Gauss-Newton standard deviation is at most this and they reject the joint ones (differ by
   // more than 3 deviations) (0: never; Engine::TakeEpipolarFocal; docs/benchmarks.md section 11).
   double epipolar_focal_max_sigma = 0.01;
+  // That last refinement's loss (and, for the point method, a last refinement of pose and focal lengths on the
+  // epipolar inliers): Cauchy with a scale of this times the inliers' robust noise level (1.4826 x their median
+  // absolute Sampson residual), so that mislocalised matches the threshold still admits pull less than under least
+  // squares, while uniformly noisy matches get a scale near the threshold; 0: least squares (docs/benchmarks.md
+  // section 11).
+  double final_cauchy_ratio = 2.0;
 
   // Calibrated hybrid only: a point-only LO-MSAC run (5pt, Sampson score) competes with the hybrid
   // result; if it finds at least this many times the hybrid model's epipolar inliers, the depth priors

@@ -76,6 +76,8 @@ class Engine {
   void LeanOnEpipolarEvidence(AffineDepthPose* model, double* score);
   void TakeEpipolarFocal(AffineDepthPose* model, double* score);
   void FocalSigmas(const AffineDepthPose& model, HybridEstimate* result) const;
+  double FinalCauchyScale(const AffineDepthPose& model) const;
+  void RobustPointRefinement(AffineDepthPose* model, double* score);
   bool KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineDepthPose* model, double* score);
 
   const RelposeProblem& p_;
@@ -175,6 +177,7 @@ void Engine::LeanOnEpipolarEvidence(AffineDepthPose* model, double* score) {
   ro.refine_shift = w_.use_shift;
   ro.reprojection_weight = o_.final_reprojection_weight;
   ro.refine_focal = !epipolar_only;
+  ro.cauchy_scale = FinalCauchyScale(*model);
   const std::vector<int> none;
   for (int round = 0; round < 3; ++round) {
     AffineDepthPose refined = *model;
@@ -183,6 +186,36 @@ void Engine::LeanOnEpipolarEvidence(AffineDepthPose* model, double* score) {
       return;
     }
     if (epipolar_only) FitDepthParameters(p_, inliers_.sampson, w_.use_shift, &refined);
+    const std::vector<int> before = inliers_.sampson;
+    if (!KeepIfEpipolarInliersRemain(refined, model, score) || inliers_.sampson == before) return;
+  }
+}
+
+// The Cauchy scale of the last refinement: final_cauchy_ratio times the epipolar inliers' robust noise level
+// (1.4826 x their median absolute Sampson residual, pixels), so that it adapts to the matches: accurate matches with a
+// few mislocalised ones near the threshold get a small scale, uniformly noisy ones a scale near the threshold (close
+// to least squares). 0 when the option is 0.
+double Engine::FinalCauchyScale(const AffineDepthPose& model) const {
+  if (!(o_.final_cauchy_ratio > 0.0) || inliers_.sampson.empty()) return 0.0;
+  std::vector<double> res;
+  EvaluateRelposeResiduals(p_, {}, {}, inliers_.sampson, w_.sampson_weight, model, &res);
+  for (double& r : res) r = std::abs(r);
+  std::nth_element(res.begin(), res.begin() + res.size() / 2, res.end());
+  return o_.final_cauchy_ratio * 1.4826 * res[res.size() / 2];
+}
+
+// The point method's last refinement under that loss: pose (and focal lengths) on the epipolar inliers, rounds of
+// (refine, re-select inliers), each kept when >= 95% of the epipolar inliers remain.
+void Engine::RobustPointRefinement(AffineDepthPose* model, double* score) {
+  RelposeRefinerOptions ro = RefinerOptions(o_.final_max_lm_iterations);
+  ro.reprojection_weight = 0.0;
+  ro.refine_focal = true;
+  ro.cauchy_scale = FinalCauchyScale(*model);
+  if (!(ro.cauchy_scale > 0.0)) return;
+  const std::vector<int> none;
+  for (int round = 0; round < 3; ++round) {
+    AffineDepthPose refined = *model;
+    if (!RefineRelpose(p_, none, none, inliers_.sampson, ro, &refined)) return;
     const std::vector<int> before = inliers_.sampson;
     if (!KeepIfEpipolarInliersRemain(refined, model, score) || inliers_.sampson == before) return;
   }
@@ -524,6 +557,9 @@ HybridEstimate Engine::Run() {
     if (o_.final_refinement && o_.final_reprojection_weight < 1.0 && w_.use_reprojection && w_.use_sampson &&
         !inliers_.sampson.empty()) {
       LeanOnEpipolarEvidence(&best, &best_score);
+    }
+    if (o_.final_refinement && !w_.use_reprojection && w_.use_sampson && !inliers_.sampson.empty()) {
+      RobustPointRefinement(&best, &best_score);
     }
     if (!w_.use_reprojection) {
       // Sampson-only scoring leaves scale and shifts as the sample gave them: fit them on all

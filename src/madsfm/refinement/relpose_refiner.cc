@@ -235,10 +235,13 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
   const int num_residuals = 2 * static_cast<int>(I0.size() + I1.size()) + static_cast<int>(Is.size());
   if (num_residuals < num_free) return false;
 
+  const double s2 = options.cauchy_scale * options.cauchy_scale;
+  const bool robust = options.cauchy_scale > 0.0;
+  auto loss = [&](double r2) { return robust ? s2 * portable::Log(1.0 + r2 / s2) : r2; };
   auto cost_of = [&](const AffineDepthPose& m, double* cost) {
     double c = 0.0;
     const bool ok = ForEachResidual<false>(
-        p, I0, I1, Is, options.sampson_weight, m, [&c](double r, const Row11d&) { c += r * r; },
+        p, I0, I1, Is, options.sampson_weight, m, [&](double r, const Row11d&) { c += loss(r * r); },
         options.reprojection_weight);
     *cost = c;
     return ok && std::isfinite(c);
@@ -265,12 +268,13 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
       filled = 0;
     };
     ForEachResidual<true>(p, I0, I1, Is, options.sampson_weight, current, [&](double r, const Row11d& row) {
-      Jb.row(filled) = row;
+      const double sw = robust ? 1.0 / std::sqrt(1.0 + r * r / s2) : 1.0;  // sqrt of the IRLS weight
+      Jb.row(filled) = sw * row;
       if (shared) {
         Jb(filled, kF0) += Jb(filled, kF1);
         Jb(filled, kF1) = 0.0;
       }
-      rb(filled) = r;
+      rb(filled) = sw * r;
       if (++filled == kBlock) flush();
     }, options.reprojection_weight);
     if (filled > 0) flush();

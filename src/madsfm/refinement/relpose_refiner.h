@@ -27,6 +27,10 @@ struct RelposeRefinerOptions {
   double max_shift = 0.0;
   double shift_reference0 = 1.0, shift_reference1 = 1.0;
   double function_tolerance = 1e-10;  // stop when the relative cost decrease is below this
+  // > 0: a Cauchy loss s^2 log(1 + r^2 / s^2) on every residual r (pixels, after the weights above) with this scale
+  // s, by reweighted normal equations (weight 1 / (1 + r^2 / s^2)); 0: least squares. The covariance of the summary
+  // stays that of least squares at the solution.
+  double cauchy_scale = 0.0;
 };
 
 struct RelposeRefinerSummary {
