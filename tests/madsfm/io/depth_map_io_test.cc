@@ -231,6 +231,24 @@ TEST(DepthMapIo, FileLevelErrors) {
   EXPECT_TRUE(Contains(ErrorOf([&] { WriteDepthMapPfm(DepthMap(), path); }), "empty depth map"));
 }
 
+// Reads a (possibly corrupt) depth file and counts the outcome: a consistent map, a std::runtime_error naming the
+// file, or anything else (a defect).
+struct ReadCounts {
+  int parsed = 0, rejected = 0, other = 0;
+};
+void CountRead(const std::string& path, ReadCounts* counts) {
+  try {
+    const DepthMap read = ReadDepthMap(path);
+    ++counts->parsed;
+    if (read.Empty() || read.data.size() != static_cast<size_t>(read.width) * read.height) ++counts->other;
+  } catch (const std::runtime_error& e) {
+    ++counts->rejected;
+    if (!Contains(e.what(), "depth file '" + path + "': ")) ++counts->other;
+  } catch (...) {
+    ++counts->other;
+  }
+}
+
 // Random corruption of valid .pfm and .bin files: a clean read of a consistent map or a named error, nothing else.
 TEST(DepthMapIo, FuzzedPfmAndBinNeverCrash) {
   TempDir tmp;
@@ -238,7 +256,7 @@ TEST(DepthMapIo, FuzzedPfmAndBinNeverCrash) {
   WriteDepthMapPfm(map, tmp.File("v.pfm"));
   WriteDepthMapColmapBin(map, tmp.File("v.bin"));
   std::mt19937 rng(99);
-  int parsed = 0, rejected = 0, other = 0;
+  ReadCounts counts;
   const int kTrials = 800;
   for (int trial = 0; trial < kTrials; ++trial) {
     const std::string ext = trial % 2 == 0 ? ".pfm" : ".bin";
@@ -254,20 +272,11 @@ TEST(DepthMapIo, FuzzedPfmAndBinNeverCrash) {
     }
     const std::string path = tmp.File("fuzz" + ext);
     WriteFile(path, bytes);
-    try {
-      const DepthMap read = ReadDepthMap(path);
-      ++parsed;
-      if (read.Empty() || read.data.size() != static_cast<size_t>(read.width) * read.height) ++other;
-    } catch (const std::runtime_error& e) {
-      ++rejected;
-      if (!Contains(e.what(), "depth file '" + path + "': ")) ++other;
-    } catch (...) {
-      ++other;
-    }
+    CountRead(path, &counts);
   }
-  std::printf("fuzzed .pfm/.bin depth files: %d parsed, %d rejected with a named error, %d other (of %d)\n", parsed,
-              rejected, other, kTrials);
-  EXPECT_EQ(other, 0);
+  std::printf("fuzzed .pfm/.bin depth files: %d parsed, %d rejected with a named error, %d other (of %d)\n",
+              counts.parsed, counts.rejected, counts.other, kTrials);
+  EXPECT_EQ(counts.other, 0);
 }
 
 // A PNG byte stream written field by field (PNG specification, ISO/IEC 15948), independent of libpng: signature,
@@ -385,7 +394,7 @@ TEST(DepthMapIo, FuzzedPngNeverCrashes) {
   for (size_t i = 0; i < values.size(); ++i) values[i] = static_cast<uint16_t>(300 * i + 1);
   const std::string good = MakePng(8, 6, 16, 0, Rows16(values));
   std::mt19937 rng(7);
-  int parsed = 0, rejected = 0, other = 0;
+  ReadCounts counts;
   const int kTrials = 600;
   const std::string path = tmp.File("fuzz.png");
   for (int trial = 0; trial < kTrials; ++trial) {
@@ -397,21 +406,12 @@ TEST(DepthMapIo, FuzzedPngNeverCrashes) {
       bytes.resize(rng() % bytes.size());
     }
     WriteFile(path, bytes);
-    try {
-      const DepthMap read = ReadDepthMap(path);
-      ++parsed;
-      if (read.Empty() || read.data.size() != static_cast<size_t>(read.width) * read.height) ++other;
-    } catch (const std::runtime_error& e) {
-      ++rejected;
-      if (!Contains(e.what(), "depth file '" + path + "': ")) ++other;
-    } catch (...) {
-      ++other;
-    }
+    CountRead(path, &counts);
   }
-  std::printf("fuzzed 16-bit PNG depth files: %d parsed, %d rejected with a named error, %d other (of %d)\n", parsed,
-              rejected, other, kTrials);
-  EXPECT_EQ(other, 0);
-  EXPECT_GT(rejected, kTrials / 2);  // the chunk CRCs catch most flips
+  std::printf("fuzzed 16-bit PNG depth files: %d parsed, %d rejected with a named error, %d other (of %d)\n",
+              counts.parsed, counts.rejected, counts.other, kTrials);
+  EXPECT_EQ(counts.other, 0);
+  EXPECT_GT(counts.rejected, kTrials / 2);  // the chunk CRCs catch most flips
 }
 
 TEST(DepthMapIo, FindDepthSidecarLookupOrder) {
