@@ -236,14 +236,16 @@ bool Engine::KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineD
 // its focal lengths from the depth priors as much as from the matches, and a smooth distortion of the priors (a
 // few percent) shifts them by about as much, whereas accurate matches over a well-spread baseline pin them to a
 // fraction of a percent. So the pose and focal lengths are refined on the Sampson inliers alone, starting at the
-// joint estimate, and taken when the Gauss-Newton standard deviation of every focal length is at most
-// epipolar_focal_max_sigma (relative), a focal length moved by more than 3 of them, and >= 95% of the epipolar
-// inliers remain; elsewhere (small baselines, forward motion, noisy matches: a flat epipolar cost; or a joint
-// estimate the epipolar evidence does not reject) the depth priors keep setting them.
+// joint estimate, under the last refinement's Cauchy loss (a tail of mislocalised matches inside the threshold
+// biases least-squares focal lengths as it biases the pose), and taken when the Gauss-Newton standard deviation of
+// every focal length is at most epipolar_focal_max_sigma (relative), a focal length moved by more than 3 of them,
+// and >= 95% of the epipolar inliers remain; elsewhere (small baselines, forward motion, noisy matches: a flat
+// epipolar cost; or a joint estimate the epipolar evidence does not reject) the depth priors keep setting them.
 void Engine::TakeEpipolarFocal(AffineDepthPose* model, double* score) {
   RelposeRefinerOptions ro = RefinerOptions(o_.final_max_lm_iterations);
   ro.reprojection_weight = 0.0;
   ro.refine_focal = true;
+  ro.cauchy_scale = FinalCauchyScale(*model);
   const std::vector<int> none;
   AffineDepthPose refined = *model;
   RelposeRefinerSummary sum;
