@@ -144,7 +144,7 @@ MethodSummary Summarize(const std::string& method, const std::vector<PairResult>
   s.method = method;
   s.auc_thresholds = two_focal ? std::vector<double>{2, 5, 10, 20} : std::vector<double>{5, 10, 20};
   std::vector<double> rot, trans, focal, pose, runtime, depth_err, depth_oracle;
-  int depth_good = 0, above5 = 0;
+  int depth_good = 0, above5 = 0, observable = 0, observable_good = 0;
   for (const PairResult& r : results) {
     if (r.method != method) continue;
     ++s.runs;
@@ -153,7 +153,10 @@ MethodSummary Summarize(const std::string& method, const std::vector<PairResult>
     if (r.depth_err && r.depth_err_oracle) {
       depth_err.push_back(*r.depth_err);
       depth_oracle.push_back(*r.depth_err_oracle);
-      depth_good += *r.depth_err <= 1.25 * *r.depth_err_oracle;
+      const bool good = *r.depth_err <= 1.25 * *r.depth_err_oracle;
+      depth_good += good;
+      observable += r.depth_observable;
+      observable_good += r.depth_observable && good;
     }
     s.absurd_shifts += r.absurd_shift;
     if (r.rot_err_deg && r.trans_err_deg) {
@@ -176,6 +179,8 @@ MethodSummary Summarize(const std::string& method, const std::vector<PairResult>
   s.share_pose_err_above_5 = pose.empty() ? std::nan("") : static_cast<double>(above5) / pose.size();
   s.depth_measured = static_cast<int>(depth_err.size());
   s.depth_within_125 = depth_err.empty() ? std::nan("") : static_cast<double>(depth_good) / depth_err.size();
+  s.depth_observable_share = depth_err.empty() ? std::nan("") : static_cast<double>(observable) / depth_err.size();
+  s.depth_within_125_observable = observable == 0 ? std::nan("") : static_cast<double>(observable_good) / observable;
   s.median_depth_err = Median(depth_err);
   s.median_depth_err_oracle = Median(depth_oracle);
   double sum = 0;
@@ -306,8 +311,8 @@ int RunBench(int argc, char** argv) {
     if (mode != CameraMode::kCalibrated) { header << " med focal err |"; rule << "---|"; }
     const MethodSummary probe = Summarize(methods[0], results, two_focal);
     for (double t : probe.auc_thresholds) { header << " AUC@" << t << " |"; rule << "---|"; }
-    header << " >5 deg | depth err (oracle) | depth <=1.25x | absurd | med ms | mean ms |";
-    rule << "---|---|---|---|---|---|";
+    header << " >5 deg | depth err (oracle) | depth <=1.25x | observable (<=1.25x) | absurd | med ms | mean ms |";
+    rule << "---|---|---|---|---|---|---|";
     std::cout << header.str() << "\n" << rule.str() << "\n";
     for (const std::string& m : methods) {
       const MethodSummary s = Summarize(m, results, two_focal);
@@ -317,7 +322,8 @@ int RunBench(int argc, char** argv) {
       for (double a : s.auc) std::cout << " " << Fmt(100 * a) << " |";
       std::cout << " " << Fmt(100 * s.share_pose_err_above_5, 1) << "% | " << Fmt(100 * s.median_depth_err)
                 << "% (" << Fmt(100 * s.median_depth_err_oracle) << "%) | " << Fmt(100 * s.depth_within_125, 1)
-                << "% | " << s.absurd_shifts << " |";
+                << "% | " << Fmt(100 * s.depth_observable_share, 1) << "% (" << Fmt(100 * s.depth_within_125_observable, 1)
+                << "%) | " << s.absurd_shifts << " |";
       std::cout << " " << Fmt(s.median_runtime_ms) << " | " << Fmt(s.mean_runtime_ms) << " |\n";
       nlohmann::json mj;
       mj["runs"] = s.runs;
@@ -334,6 +340,10 @@ int RunBench(int argc, char** argv) {
         mj["depth_within_1.25x_oracle"] = s.depth_within_125;
         mj["median_depth_err"] = s.median_depth_err;
         mj["median_depth_err_oracle"] = s.median_depth_err_oracle;
+        mj["depth_observable_share"] = s.depth_observable_share;
+        if (std::isfinite(s.depth_within_125_observable)) {
+          mj["depth_within_1.25x_oracle_observable"] = s.depth_within_125_observable;
+        }
       }
       mj["absurd_shifts"] = s.absurd_shifts;
       mj["median_runtime_ms"] = s.median_runtime_ms;
@@ -347,7 +357,8 @@ int RunBench(int argc, char** argv) {
       std::ofstream csv(csv_path);
       if (!csv) throw std::runtime_error("cannot write '" + csv_path + "'");
       csv << "pair,method,camera_mode,status,qw,qx,qy,qz,tx,ty,tz,f0,f1,scale,shift0,shift1,num_inliers,runtime_ms,"
-             "rot_err_deg,trans_err_deg,focal_err,depth_err,depth_err_oracle,depth_support,seed\n";
+             "rot_err_deg,trans_err_deg,focal_err,depth_err,depth_err_oracle,depth_support,seed,depth_observable,"
+             "sigma_scale,sigma_shift0,sigma_shift1,sigma_focal0,sigma_focal1\n";
       // Numbers as the shortest round-trip text (FormatDouble), as in the JSON outputs.
       auto num = [](double v) { return FormatDouble(v); };
       auto opt = [](const std::optional<double>& v) { return v ? FormatDouble(*v) : std::string(); };
@@ -365,7 +376,13 @@ int RunBench(int argc, char** argv) {
         }
         csv << ',' << num(r.runtime_ms) << ',' << opt(r.rot_err_deg) << ',' << opt(r.trans_err_deg) << ','
             << opt(r.focal_err) << ',' << opt(r.depth_err) << ',' << opt(r.depth_err_oracle) << ','
-            << (r.depth_support ? std::to_string(*r.depth_support) : std::string()) << ',' << r.seed << '\n';
+            << (r.depth_support ? std::to_string(*r.depth_support) : std::string()) << ',' << r.seed << ','
+            << (r.depth_observable ? 1 : 0);
+        // NaN (not estimated / not computable) as an empty field, like the other optional columns.
+        for (double v : {r.sigma_scale, r.sigma_shift0, r.sigma_shift1, r.sigma_focal0, r.sigma_focal1}) {
+          csv << ',' << (std::isfinite(v) ? num(v) : std::string());
+        }
+        csv << '\n';
       }
       const std::string json_path = (std::filesystem::path(output_path) / "summary.json").string();
       std::ofstream js(json_path);

@@ -28,6 +28,9 @@ struct MethodSummary {
   int depth_measured = 0;
   double depth_within_125 = 0, median_depth_err = 0, median_depth_err_oracle = 0;
   int absurd_shifts = 0;
+  // Of the measured runs: the share the estimator flagged depth_observable, and the share within 1.25x of the
+  // oracle among those (what a user who trusts the flag gets).
+  double depth_observable_share = 0, depth_within_125_observable = 0;
 };
 MethodSummary Summarize(const std::string& method, const std::vector<PairResult>& results, bool two_focal);
 

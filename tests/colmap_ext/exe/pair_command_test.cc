@@ -8,9 +8,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "madsfm/io/npy.h"
 
@@ -75,6 +78,78 @@ TEST(PairCommand, PointMethodReportsNoDepthCorrections) {
 TEST(PairCommand, PairWithoutDepthRunsThePointMethodAndSaysSo) {
   const CliRun r = RunCli("pair --pair_path " + std::string(MADSFM_EXAMPLE_PAIRS_DIR) + "/0_scannet --camera_mode calibrated");
   EXPECT_NE(r.out.find("point method"), std::string::npos) << r.out;
+}
+
+std::vector<std::string> SplitCsvLine(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string item;
+  while (std::getline(ss, item, ',')) out.push_back(item);
+  if (!line.empty() && line.back() == ',') out.emplace_back();
+  return out;
+}
+
+// `bench` writes whether each estimate determines its depth corrections, with their standard deviations, and says in
+// summary.json how often it did and how good the flagged ones were against the true depths.
+TEST(BenchCommand, PerPairCsvCarriesTheDepthFlagAndItsSigmas) {
+  const fs::path dir = fs::temp_directory_path() / "madsfm_bench_cli_observable";
+  fs::remove_all(dir);
+  const CliRun synth = RunCli("synth --preset hard_low_parallax_calibrated --num_pairs 6 --seed 5 --output_path " +
+                              (dir / "pairs").string());
+  ASSERT_EQ(synth.status, 0) << synth.out;
+  const CliRun r = RunCli("bench --pairs_path " + (dir / "pairs").string() + " --method hybrid,points --output_path " +
+                          (dir / "out").string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  std::ifstream csv(dir / "out" / "per_pair.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  const std::vector<std::string> header = SplitCsvLine(line);
+  std::map<std::string, size_t> col;
+  for (size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
+  for (const char* name : {"depth_observable", "sigma_scale", "sigma_shift0", "sigma_shift1", "sigma_focal0",
+                           "depth_err", "depth_err_oracle"}) {
+    ASSERT_TRUE(col.count(name)) << name;
+  }
+  int hybrid_measured = 0, hybrid_observable = 0, observable_good = 0, points_rows = 0;
+  while (std::getline(csv, line)) {
+    const std::vector<std::string> f = SplitCsvLine(line);
+    ASSERT_EQ(f.size(), header.size()) << line;
+    const std::string method = f[col["method"]];
+    const bool observable = f[col["depth_observable"]] == "1";
+    ASSERT_TRUE(observable || f[col["depth_observable"]] == "0") << line;
+    EXPECT_TRUE(f[col["sigma_focal0"]].empty()) << "calibrated: no focal sigma: " << line;
+    if (method == "points") {
+      ++points_rows;
+      EXPECT_FALSE(observable) << line;
+      EXPECT_TRUE(f[col["sigma_scale"]].empty()) << line;
+      continue;
+    }
+    ASSERT_EQ(method, "hybrid");
+    bool within = true;
+    for (const char* name : {"sigma_scale", "sigma_shift0", "sigma_shift1"}) {
+      ASSERT_FALSE(f[col[name]].empty()) << name << ": " << line;
+      const double sigma = std::stod(f[col[name]]);
+      EXPECT_GE(sigma, 0.0);
+      within = within && sigma <= 0.1;  // the default --max_depth_sigma
+    }
+    EXPECT_EQ(observable, within) << line;
+    if (f[col["depth_err"]].empty()) continue;
+    ++hybrid_measured;
+    hybrid_observable += observable;
+    observable_good += observable && std::stod(f[col["depth_err"]]) <= 1.25 * std::stod(f[col["depth_err_oracle"]]);
+  }
+  EXPECT_EQ(points_rows, 6);
+  ASSERT_EQ(hybrid_measured, 6);
+  std::ifstream js(dir / "out" / "summary.json");
+  const auto summary = nlohmann::json::parse(js)["methods"]["hybrid"];
+  EXPECT_DOUBLE_EQ(summary["depth_observable_share"].get<double>(), hybrid_observable / 6.0);
+  if (hybrid_observable > 0) {
+    EXPECT_DOUBLE_EQ(summary["depth_within_1.25x_oracle_observable"].get<double>(),
+                     static_cast<double>(observable_good) / hybrid_observable);
+  } else {
+    EXPECT_FALSE(summary.contains("depth_within_1.25x_oracle_observable"));
+  }
+  fs::remove_all(dir);
 }
 
 TEST(PairCommand, BadPairDirectoriesGiveClearErrors) {
