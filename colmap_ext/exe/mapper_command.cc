@@ -41,6 +41,10 @@ int RunMapper(int argc, char** argv) {
                      "Output folder: 0/ (the kept model), seed/, one folder and colmap_mapper_<run>.log per run.");
   parser.AddDefault("depth_path", &tv.depth_path, "Folder of depth sidecars (docs/formats.md).");
   parser.AddDefault("depth_type", &tv.depth_type, "depth | disparity.");
+  parser.AddDefault("estimate_shift", &tv.estimator.estimate_shift,
+                    "1: the depth maps are affine-invariant (relative depth models): one scale and two shifts per pair\n"
+                    "(the paper's model). 0: they are metric up to one scale per image (sensor depth, metric depth\n"
+                    "models): scale only, which keeps small baselines from trading shifts against focal lengths.");
   parser.AddDefault("camera_mode", &tv.camera_mode, "auto | calibrated | shared_focal | two_focal.");
   parser.AddDefault("num_threads", &tv.num_threads, "Threads (-1: all cores).");
   parser.AddDefault("reproj_threshold", &tv.estimator.reproj_threshold, "Reprojection inlier threshold, px.");

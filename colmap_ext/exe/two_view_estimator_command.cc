@@ -26,6 +26,10 @@ int RunTwoViewEstimator(int argc, char** argv) {
                     "auto | calibrated | shared_focal | two_focal. auto: calibrated if both cameras have a focal\n"
                     "prior, shared_focal if both images use one camera, else two_focal.");
   parser.AddDefault("depth_type", &o.depth_type, "depth | disparity (disparity maps are inverted first).");
+  parser.AddDefault("estimate_shift", &o.estimator.estimate_shift,
+                    "1: the depth maps are affine-invariant (relative depth models): one scale and two shifts per pair\n"
+                    "(the paper's model). 0: they are metric up to one scale per image (sensor depth, metric depth\n"
+                    "models): scale only, which keeps small baselines from trading shifts against focal lengths.");
   parser.AddDefault("pair_list", &o.pair_list, "Optional file of 'name1 name2' lines: only these pairs.");
   parser.AddDefault("num_threads", &o.num_threads, "Threads (-1: all cores).");
   parser.AddDefault("overwrite", &o.overwrite, "Re-estimate pairs already done with the same options.");

@@ -7,12 +7,14 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "colmap_ext/database/database.h"
 #include "colmap_ext/pipeline/focal_estimator.h"
 #include "madsfm/estimators/relpose_problem.h"
 #include "madsfm/geometry/pose_error.h"
 #include "madsfm/io/depth_map_io.h"
+#include "madsfm/io/npy.h"
 #include "madsfm/synthetic/two_view_scene.h"
 #include "colmap_ext/synthetic/synthetic_project.h"
 #include "testing/colmap_database_builder.h"
@@ -311,6 +313,57 @@ TEST(TwoViewEstimator, FocalBecomesAPriorOnlyWhenEnoughPairsAgree) {
   EXPECT_TRUE(cameras[0].prior_focal_length);
   for (size_t k = 1; k < cameras.size(); ++k) EXPECT_FALSE(cameras[k].prior_focal_length);
   EXPECT_NE(testing::DumpTable(p.db, "cameras"), before);
+}
+
+// Metric depth (sensor depth, metric depth models): the sidecars hold the true depth times one scale per image (1.0
+// for the first image of a pair, 1.5 for the second), no shift. With estimate_shift = 0 the stored shifts are exactly
+// 0, the scale is the ratio of the two images' scales (1 / 1.5: the corrected depth of the second view is scale x its
+// prior, in the first view's units), the pose and focal are accurate, and a run with shifts (another options
+// fingerprint) estimates every pair again.
+TEST(TwoViewEstimator, MetricDepthWithoutShifts) {
+  const Project p = MakeProject("metric", 6, false);
+  auto db = colmap::Database::Open(p.db, true);
+  std::map<colmap::image_t, std::string> names;
+  for (const auto& image : db->ReadImages()) names[image.image_id] = image.name;
+  db.reset();
+  for (int k = 0; k < 6; ++k) {
+    for (int view = 0; view < 2; ++view) {
+      const DepthMap& truth = view == 0 ? p.pairs[k].true_depth_map0 : p.pairs[k].true_depth_map1;
+      std::vector<double> metric(truth.data.size());
+      for (size_t i = 0; i < metric.size(); ++i) {
+        metric[i] = truth.data[i] > 0 ? (view == 0 ? 1.0 : 1.5) * truth.data[i] : std::nan("");
+      }
+      const std::string path = p.depths + "/" + names.at(2 * k + 1 + view) + ".npy";
+      ASSERT_TRUE(fs::exists(path)) << path;
+      WriteNpy(path, {static_cast<size_t>(truth.height), static_cast<size_t>(truth.width)}, metric.data());
+    }
+  }
+  TwoViewEstimatorOptions o = Options(p);
+  o.estimator.estimate_shift = false;
+  ASSERT_EQ(RunTwoViewEstimatorImpl(o).num_estimated, 6);
+  db = colmap::Database::Open(p.db, true);
+  int accurate = 0;
+  std::string fingerprint;
+  for (int k = 0; k < 6; ++k) {
+    const auto row = db->ReadMadsfmPair(colmap::ImagePairToPairId(2 * k + 1, 2 * k + 2));
+    ASSERT_TRUE(row.has_value());
+    EXPECT_EQ(row->shift1, 0.0);
+    EXPECT_EQ(row->shift2, 0.0);
+    const Eigen::Matrix4d& T = *p.pairs[k].pair.T_0to1;
+    const double rot = RotationErrorDeg(row->R, T.topLeftCorner<3, 3>());
+    const double focal = std::abs(row->focal1 / p.pairs[k].focal0 - 1.0);
+    std::printf("pair %d: rot %.3f deg, focal %.3f%%, scale %.4f\n", k, rot, 100 * focal, row->scale);
+    accurate += rot < 0.5 && focal < 0.02 && std::abs(row->scale * 1.5 - 1.0) < 0.02;
+    fingerprint = row->options_fingerprint;
+  }
+  EXPECT_GE(accurate, 5);
+  db.reset();
+  o.estimator.estimate_shift = true;
+  const TwoViewEstimatorSummary again = RunTwoViewEstimatorImpl(o);
+  EXPECT_EQ(again.num_estimated, 6);
+  EXPECT_EQ(again.num_skipped_done, 0);
+  db = colmap::Database::Open(p.db, true);
+  EXPECT_NE(db->ReadMadsfmPair(colmap::ImagePairToPairId(1, 2))->options_fingerprint, fingerprint);
 }
 
 TEST(TwoViewEstimator, ImagesWithoutDepthFallBackToPoints) {
