@@ -322,8 +322,8 @@ int RunBench(int argc, char** argv) {
       for (double a : s.auc) std::cout << " " << Fmt(100 * a) << " |";
       std::cout << " " << Fmt(100 * s.share_pose_err_above_5, 1) << "% | " << Fmt(100 * s.median_depth_err)
                 << "% (" << Fmt(100 * s.median_depth_err_oracle) << "%) | " << Fmt(100 * s.depth_within_125, 1)
-                << "% | " << Fmt(100 * s.depth_observable_share, 1) << "% (" << Fmt(100 * s.depth_within_125_observable, 1)
-                << "%) | " << s.absurd_shifts << " |";
+                << "% | " << Fmt(100 * s.depth_observable_share, 1) << "% ("
+                << Fmt(100 * s.depth_within_125_observable, 1) << "%) | " << s.absurd_shifts << " |";
       std::cout << " " << Fmt(s.median_runtime_ms) << " | " << Fmt(s.mean_runtime_ms) << " |\n";
       nlohmann::json mj;
       mj["runs"] = s.runs;
