@@ -576,8 +576,12 @@ TEST(TwoViewScene, HardPresetsDrawTheirRanges) {
     EXPECT_GT(max_matches - min_matches, 500) << name;
     EXPECT_GE(metric, 3) << name;  // half of the pairs, drawn
     EXPECT_LE(metric, n - 3) << name;
-    if (o.camera_setup != SyntheticCameraSetup::kSharedFocal) EXPECT_EQ(two_cameras, n) << name;
-    if (o.scene != SyntheticSceneType::kPlanar) EXPECT_GE(near_edges, 0.03 * inliers) << name;
+    if (o.camera_setup != SyntheticCameraSetup::kSharedFocal) {
+      EXPECT_EQ(two_cameras, n) << name;
+    }
+    if (o.scene != SyntheticSceneType::kPlanar) {
+      EXPECT_GE(near_edges, 0.03 * inliers) << name;
+    }
   }
 }
 
