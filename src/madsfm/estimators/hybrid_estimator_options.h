@@ -155,7 +155,10 @@ struct HybridEstimate {
   // Standard deviations of the depth corrections from the final depth fit (shifts relative to the median prior of
   // their view, scale relative to itself; NaN when not estimated), and whether they are all below
   // options.max_depth_sigma: false means the priors do not determine scale and shifts (tiny baseline, pure
-  // rotation, too few depth inliers) and the reported values are not to be trusted.
+  // rotation, too few depth inliers) and the reported values are not to be trusted. Without shifts
+  // (estimate_shift = false) their sigmas stay NaN and the scale's decides, and the flag is also false when the
+  // epipolar inliers show no parallax (a rotation alone transfers them to within 3x their noise level): there the
+  // priors' own errors set the scale, which no standard deviation shows.
   double sigma_shift0 = std::numeric_limits<double>::quiet_NaN();
   double sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
   double sigma_scale = std::numeric_limits<double>::quiet_NaN();

@@ -318,8 +318,8 @@ TEST(TwoViewEstimator, FocalBecomesAPriorOnlyWhenEnoughPairsAgree) {
 // Metric depth (sensor depth, metric depth models): the sidecars hold the true depth times one scale per image (1.0
 // for the first image of a pair, 1.5 for the second), no shift. With estimate_shift = 0 the stored shifts are exactly
 // 0, the scale is the ratio of the two images' scales (1 / 1.5: the corrected depth of the second view is scale x its
-// prior, in the first view's units), the pose and focal are accurate, and a run with shifts (another options
-// fingerprint) estimates every pair again.
+// prior, in the first view's units), the pose and focal are accurate, the pairs say their scale is determined, and a
+// run with shifts (another options fingerprint) estimates every pair again.
 TEST(TwoViewEstimator, MetricDepthWithoutShifts) {
   const Project p = MakeProject("metric", 6, false);
   auto db = colmap::Database::Open(p.db, true);
@@ -342,7 +342,7 @@ TEST(TwoViewEstimator, MetricDepthWithoutShifts) {
   o.estimator.estimate_shift = false;
   ASSERT_EQ(RunTwoViewEstimatorImpl(o).num_estimated, 6);
   db = colmap::Database::Open(p.db, true);
-  int accurate = 0;
+  int accurate = 0, observable = 0;
   std::string fingerprint;
   for (int k = 0; k < 6; ++k) {
     const auto row = db->ReadMadsfmPair(colmap::ImagePairToPairId(2 * k + 1, 2 * k + 2));
@@ -355,8 +355,12 @@ TEST(TwoViewEstimator, MetricDepthWithoutShifts) {
     std::printf("pair %d: rot %.3f deg, focal %.3f%%, scale %.4f\n", k, rot, 100 * focal, row->scale);
     accurate += rot < 0.5 && focal < 0.02 && std::abs(row->scale * 1.5 - 1.0) < 0.02;
     fingerprint = row->options_fingerprint;
+    // Determined without shifts: the scale's sigma decides (the shifts' are NULL), so seed_model can use the pair.
+    EXPECT_TRUE(std::isnan(row->sigma_shift1) && std::isnan(row->sigma_shift2));
+    observable += row->depth_observable == 1;
   }
   EXPECT_GE(accurate, 5);
+  EXPECT_GE(observable, 5) << "baselines of 5-30% of the depth determine the scale";
   db.reset();
   o.estimator.estimate_shift = true;
   const TwoViewEstimatorSummary again = RunTwoViewEstimatorImpl(o);
