@@ -284,13 +284,13 @@ void Engine::FocalSigmas(const AffineDepthPose& model, HybridEstimate* result) c
   result->sigma_focal1 = p_.mode == CameraMode::kTwoFocal ? sum.sigma_f1 / m.f1 : result->sigma_focal0;
 }
 
-// Whether the epipolar inliers show parallax at all: a rotation alone (the least-squares rotation between their rays,
-// the model's focal lengths) transfers x0 to within a median distance of x1 (pixels, view 1) of at most 3 times the
-// inliers' robust noise level (1.4826 x their median Sampson error) when they do not. Without parallax the depth
-// corrections are not determined by the matches, only by the priors' own errors: a translation fitted to a smooth
-// distortion of the priors makes a scale-only fit look precise (the covariance cannot see that bias: 15 of 30
-// pure-rotation pairs in depth_observable_test), so the flag must not rest on the standard deviations alone. true when
-// there are too few epipolar inliers to judge by.
+// Whether the epipolar inliers show parallax at all: false when a rotation alone (the least-squares rotation between
+// their rays, with the model's focal lengths) transfers x0 to within a median distance of x1 (pixels, view 1) of 3
+// times the inliers' robust noise level (1.4826 x their median Sampson error). Without parallax the depth corrections
+// are not determined by the matches, only by the priors' own errors: a translation fitted to a smooth distortion of
+// the priors makes a scale-only fit look precise (the covariance cannot see that bias: 15 of 30 pure-rotation pairs
+// in depth_observable_test), so the flag must not rest on the standard deviations alone. true when there are too
+// few epipolar inliers to judge by.
 bool Engine::ParallaxMeasurable(const AffineDepthPose& model) const {
   if (inliers_.sampson.size() < 5) return true;
   std::vector<double> sampson;

@@ -48,11 +48,9 @@ Outcome EstimateSet(const SyntheticPairOptions& options, uint64_t first_seed, in
     out.finite_sigmas += std::isfinite(est.sigma_scale) && std::isfinite(est.sigma_shift0) &&
                          std::isfinite(est.sigma_shift1) && est.sigma_scale >= 0 && est.sigma_shift0 >= 0 &&
                          est.sigma_shift1 >= 0;
-    // Observable needs every sigma within the bound (and parallax the matches show).
-    if (est.depth_observable) {
-      EXPECT_TRUE(est.sigma_scale <= o.max_depth_sigma && est.sigma_shift0 <= o.max_depth_sigma &&
-                  est.sigma_shift1 <= o.max_depth_sigma);
-    }
+    // With shifts, observable means every sigma is within the bound, and nothing else.
+    EXPECT_EQ(est.depth_observable, est.sigma_scale <= o.max_depth_sigma && est.sigma_shift0 <= o.max_depth_sigma &&
+                                        est.sigma_shift1 <= o.max_depth_sigma);
   }
   return out;
 }
