@@ -41,13 +41,19 @@ InlierRatios ComputeRatios(const RelposeProblem& p, const InlierSets& in, const 
   return r;
 }
 
+// The element at index size / 2 of the sorted values (the upper median); v must not be empty.
+double UpperMedian(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
 double MedianPrior(const std::vector<double>& d, const std::vector<int>& valid) {
   if (valid.empty()) return 1.0;
   std::vector<double> v;
   v.reserve(valid.size());
   for (int i : valid) v.push_back(d[i]);
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2] > 0.0 ? v[v.size() / 2] : 1.0;
+  const double m = UpperMedian(std::move(v));
+  return m > 0.0 ? m : 1.0;
 }
 
 // Whether two models lie in different basins of the score: rotations more than 1 deg apart, or translation directions
@@ -79,6 +85,7 @@ class Engine {
   void TakeEpipolarFocal(AffineDepthPose* model, double* score);
   void FocalSigmas(const AffineDepthPose& model, HybridEstimate* result) const;
   bool ParallaxMeasurable(const AffineDepthPose& model) const;
+  double SampsonNoiseLevel(const AffineDepthPose& model, double sampson_weight) const;
   double FinalCauchyScale(const AffineDepthPose& model) const;
   void RobustPointRefinement(AffineDepthPose* model, double* score);
   bool KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineDepthPose* model, double* score);
@@ -200,11 +207,16 @@ void Engine::LeanOnEpipolarEvidence(AffineDepthPose* model, double* score) {
 // to least squares). 0 when the option is 0.
 double Engine::FinalCauchyScale(const AffineDepthPose& model) const {
   if (!(o_.final_cauchy_ratio > 0.0) || inliers_.sampson.empty()) return 0.0;
+  return o_.final_cauchy_ratio * SampsonNoiseLevel(model, w_.sampson_weight);
+}
+
+// The epipolar inliers' robust noise level: 1.4826 x their median absolute Sampson residual (pixels, times
+// sqrt(sampson_weight)); the inlier set must not be empty.
+double Engine::SampsonNoiseLevel(const AffineDepthPose& model, double sampson_weight) const {
   std::vector<double> res;
-  EvaluateRelposeResiduals(p_, {}, {}, inliers_.sampson, w_.sampson_weight, model, &res);
+  EvaluateRelposeResiduals(p_, {}, {}, inliers_.sampson, sampson_weight, model, &res);
   for (double& r : res) r = std::abs(r);
-  std::nth_element(res.begin(), res.begin() + res.size() / 2, res.end());
-  return o_.final_cauchy_ratio * 1.4826 * res[res.size() / 2];
+  return 1.4826 * UpperMedian(std::move(res));
 }
 
 // The point method's last refinement under that loss: pose (and focal lengths) on the epipolar inliers, rounds of
@@ -293,9 +305,6 @@ void Engine::FocalSigmas(const AffineDepthPose& model, HybridEstimate* result) c
 // few epipolar inliers to judge by.
 bool Engine::ParallaxMeasurable(const AffineDepthPose& model) const {
   if (inliers_.sampson.size() < 5) return true;
-  std::vector<double> sampson;
-  EvaluateRelposeResiduals(p_, {}, {}, inliers_.sampson, 1.0, model, &sampson);
-  for (double& r : sampson) r = std::abs(r);
   Eigen::Matrix3d cross = Eigen::Matrix3d::Zero();
   for (int i : inliers_.sampson) {
     const Eigen::Vector3d r0 = Eigen::Vector3d(p_.x0[i].x() / model.f0, p_.x0[i].y() / model.f0, 1.0).normalized();
@@ -314,11 +323,7 @@ bool Engine::ParallaxMeasurable(const AffineDepthPose& model) const {
     if (!(r.z() > 0.0)) return true;  // rotated by 90 deg or more: parallax is not the question
     transfer.push_back((p_.x1[i] - model.f1 * r.head<2>() / r.z()).norm() * p_.pixel_scale1);
   }
-  auto median = [](std::vector<double>* v) {
-    std::nth_element(v->begin(), v->begin() + v->size() / 2, v->end());
-    return (*v)[v->size() / 2];
-  };
-  return median(&transfer) > 3.0 * 1.4826 * median(&sampson);
+  return UpperMedian(std::move(transfer)) > 3.0 * SampsonNoiseLevel(model, 1.0);
 }
 
 // Local optimisation in the manner of Lebeda et al. 2012 (LO+ with inner samples and a threshold schedule), as
