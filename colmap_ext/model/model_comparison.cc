@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -100,10 +101,16 @@ GroundTruth ReadGroundTruthJson(const std::string& path) {
       for (int c = 0; c < 3; ++c) image.R(r, c) = R[3 * r + c];
       image.t(r) = t[r];
     }
+    // Published ground truth is often printed with 6 significant digits (Strecha's .camera files: |R R^T - I|
+    // about 1e-6), so a near-rotation is accepted and replaced by the nearest rotation (SVD).
     const double orthogonality = (image.R * image.R.transpose() - Eigen::Matrix3d::Identity()).norm();
-    if (!(orthogonality < 1e-6) || !(image.R.determinant() > 0.0)) {
+    if (!(orthogonality < 1e-3) || !(image.R.determinant() > 0.0)) {
       Fail(path, where + ": \"R\" is not a rotation matrix (|R R^T - I| = " + std::to_string(orthogonality) +
                      ", det = " + std::to_string(image.R.determinant()) + ")");
+    }
+    if (orthogonality > 1e-12) {
+      const Eigen::JacobiSVD<Eigen::Matrix3d> svd(image.R, Eigen::ComputeFullU | Eigen::ComputeFullV);
+      image.R = svd.matrixU() * svd.matrixV().transpose();
     }
     if (entry.contains("f") && !entry.at("f").is_null()) {
       const json& f = entry.at("f");

@@ -14,7 +14,8 @@
 # QT_QPA_PLATFORM=offscreen "Check failed: context_.create()" in opengl_utils.cc. With use_gpu 0 (CPU SIFT,
 # VLFeat) neither command creates a Qt application or a GL context, so no display, Xvfb or GPU is needed.
 # QT_QPA_PLATFORM=offscreen is exported as well, so that no Qt code path tries to reach an X server.
-# Environment: COLMAP (binary, default colmap), NUM_THREADS (default -1 = all cores), SINGLE_CAMERA (default 1).
+# Environment: COLMAP (binary, default colmap), NUM_THREADS (default -1 = all cores), SINGLE_CAMERA (default 1),
+# MAX_IMAGE_SIZE (default 3200, COLMAP's: SIFT runs on images downscaled to it; keypoints stay in full-size pixels).
 set -euo pipefail
 
 if [[ $# -ne 1 ]]; then
@@ -25,6 +26,7 @@ PROJECT_DIR=$1
 COLMAP=${COLMAP:-colmap}
 NUM_THREADS=${NUM_THREADS:--1}
 SINGLE_CAMERA=${SINGLE_CAMERA:-1}
+MAX_IMAGE_SIZE=${MAX_IMAGE_SIZE:-3200}
 export QT_QPA_PLATFORM=offscreen
 
 if [[ ! -d "$PROJECT_DIR/images" ]]; then
@@ -50,6 +52,7 @@ run feature_extractor "$COLMAP" feature_extractor \
   --ImageReader.single_camera "$SINGLE_CAMERA" \
   --ImageReader.camera_model SIMPLE_RADIAL \
   --SiftExtraction.use_gpu 0 \
+  --SiftExtraction.max_image_size "$MAX_IMAGE_SIZE" \
   --SiftExtraction.num_threads "$NUM_THREADS"
 
 run exhaustive_matcher "$COLMAP" exhaustive_matcher \

@@ -4,10 +4,10 @@
 # trajectory.log with the camera-to-world poses; ICL-NUIM living room with simulated sensor noise, 640 x 480,
 # f = 525 px). Any folder of that layout works (FOCAL= sets the true focal).
 #
-# Per run: COLMAP SIFT + exhaustive matching (one shared camera, no focal prior), then plain `colmap mapper` and
-# `madsfm mapper --depth_path DATA/depth` (the 16-bit PNGs as they are) on copies of the same database; one line per
-# run: registered images, median rotation / translation-direction error over all pairs, focal error, time.
-# COLMAP's matching varies between runs, hence several.
+# Writes WORK_DIR/images and WORK_DIR/ground_truth.json, then scripts/e2e/mapper_ab.sh runs COLMAP SIFT + exhaustive
+# matching (one shared camera, no focal prior), plain `colmap mapper` and `madsfm mapper --depth_path DATA/depth` (the
+# 16-bit PNGs as they are) on copies of the same database; one line per run: registered images, median rotation /
+# translation-direction error over all pairs, focal error, time. COLMAP's matching varies between runs, hence several.
 # Usage: scripts/e2e/rgbd_frames.sh MADSFM_BINARY DATA_DIR WORK_DIR [RUNS (default 4)] [madsfm mapper options...]
 set -uo pipefail
 W="$1"; DATA="$2"; OUT="$3"; RUNS="${4:-4}"; shift $(( $# < 4 ? $# : 4 ))
@@ -31,31 +31,4 @@ for k, name in enumerate(names):
     images.append({"name": name, "R": [v for row in R for v in row], "t": t, "f": float(sys.argv[3])})
 print(json.dumps({"images": images}, indent=1))
 EOF
-cmp() {  # cmp MODEL: "registered, rot, trans, focal" or "no model"
-  "$W" model_compare --input_path "$1" --ground_truth_path "$OUT/ground_truth.json" --output_format json 2>/dev/null |
-    /usr/bin/python3 -c "
-import json, sys
-try:
-    d = json.load(sys.stdin)
-    print('%d/%d, %.3f deg, %.2f deg, %.2f%%' % (d['num_registered'], d['num_gt_images'], d['median_rot_err_deg'],
-          d['median_trans_err_deg'], 100 * d['median_focal_err']), end='')
-except Exception:
-    print('no model', end='')"
-}
-echo "| run | plain colmap mapper: registered, rot, trans dir, focal, time | madsfm mapper: registered, rot, trans dir, focal, time |"
-echo "|---|---|---|"
-for k in $(seq 1 "$RUNS"); do
-  d="$OUT/run$k"
-  rm -rf "$d"; mkdir -p "$d"; ln -s ../images "$d/images"
-  bash "$S/colmap_features.sh" "$d" >/dev/null 2>&1 || { echo "run $k: colmap features failed (logs in $d/logs)"; continue; }
-  cp "$d/database.db" "$d/plain.db"; cp "$d/database.db" "$d/madsfm.db"; mkdir -p "$d/plain"
-  t0=$(date +%s.%N)
-  colmap mapper --database_path "$d/plain.db" --image_path "$d/images" --output_path "$d/plain" >"$d/plain.log" 2>&1
-  t1=$(date +%s.%N)
-  "$W" mapper --database_path "$d/madsfm.db" --image_path "$d/images" --depth_path "$DATA/depth" \
-    --output_path "$d/madsfm" "$@" >"$d/madsfm.log" 2>&1
-  t2=$(date +%s.%N)
-  plain=$(ls -d "$d"/plain/*/ 2>/dev/null | head -1)
-  printf '| %d | %s, %.1f s | %s, %.1f s |\n' "$k" "$([ -n "$plain" ] && cmp "$plain" || echo "no model")" \
-    "$(echo "$t1 - $t0" | bc)" "$(cmp "$d/madsfm/0")" "$(echo "$t2 - $t1" | bc)"
-done
+bash "$S/mapper_ab.sh" "$W" "$OUT" "$RUNS" --depth_path "$DATA/depth" "$@"

@@ -10,9 +10,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iomanip>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -328,6 +330,33 @@ TEST(GroundTruthJsonTest, RoundTripIsExact) {
   }
 }
 
+// Published ground truth prints rotations with about 6 significant digits (e.g. Strecha et al.'s .camera files):
+// such a matrix is accepted and replaced by the nearest rotation.
+TEST(GroundTruthJsonTest, RotationsPrintedWithSixDigitsAreAcceptedAndMadeOrthonormal) {
+  const GroundTruth gt = MakeGroundTruth(4, 21);
+  std::ostringstream text;
+  text << std::setprecision(6) << "{\"images\": [";
+  for (size_t i = 0; i < gt.images.size(); ++i) {
+    text << (i ? ", " : "") << "{\"name\": \"" << gt.images[i].name << "\", \"R\": [";
+    for (int k = 0; k < 9; ++k) text << (k ? ", " : "") << gt.images[i].R(k / 3, k % 3);
+    text << "], \"t\": [" << gt.images[i].t(0) << ", " << gt.images[i].t(1) << ", " << gt.images[i].t(2) << "]}";
+  }
+  text << "]}";
+  TempDir tmp;
+  WriteText(tmp.Sub("gt.json"), text.str());
+  const GroundTruth back = ReadGroundTruthJson(tmp.Sub("gt.json"));
+  ASSERT_EQ(back.images.size(), gt.images.size());
+  int rounded = 0;
+  for (size_t i = 0; i < gt.images.size(); ++i) {
+    const Eigen::Matrix3d& R = back.images[i].R;
+    EXPECT_LT((R * R.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-12) << i;
+    EXPECT_NEAR(R.determinant(), 1.0, 1e-12) << i;
+    EXPECT_LT((R - gt.images[i].R).norm(), 1e-5) << i;
+    rounded += (R - gt.images[i].R).norm() > 1e-9;  // the printed digits did change the matrix
+  }
+  EXPECT_EQ(rounded, static_cast<int>(gt.images.size()));
+}
+
 TEST(GroundTruthJsonTest, MalformedFilesThrowNamingTheFile) {
   TempDir tmp;
   const std::string path = tmp.Sub("gt.json");
@@ -353,6 +382,8 @@ TEST(GroundTruthJsonTest, MalformedFilesThrowNamingTheFile) {
                "\"t\" must be an array of 3");
   expect_error("{\"images\": [{\"name\": \"a\", \"R\": [2,0,0,0,1,0,0,0,1], \"t\": [0,0,0]}]}", "not a rotation");
   expect_error("{\"images\": [{\"name\": \"a\", \"R\": [-1,0,0,0,1,0,0,0,1], \"t\": [0,0,0]}]}", "not a rotation");
+  expect_error("{\"images\": [{\"name\": \"a\", \"R\": [1.001,0,0,0,1.001,0,0,0,1.001], \"t\": [0,0,0]}]}",
+               "not a rotation");
   expect_error("{\"images\": [{\"name\": \"a\", \"R\": " + R + ", \"t\": [0,0,0], \"f\": -3}]}", "\"f\" must be");
   expect_error("{\"images\": [{\"name\": \"a\", \"R\": " + R + ", \"t\": [0,0,0], \"f\": \"9\"}]}", "\"f\" must be");
   expect_error("{\"images\": [{\"name\": \"a\", \"R\": " + R + ", \"t\": [0,0,0]}, {\"name\": \"a\", \"R\": " + R +
