@@ -62,9 +62,10 @@ int RunTwoViewEstimator(int argc, char** argv) {
                   o.num_shards, s.num_shard_pairs, s.num_pairs - s.num_skipped_few_matches, o.shard_path.c_str());
     }
     std::printf("two_view_estimator: %d matched pairs: %d estimated (%d point-only for lack of depth), %d failed "
-                "(COLMAP's rows kept), %d already done, %d with < %d matches\n",
-                s.num_pairs, s.num_estimated, s.num_point_fallback, s.num_failed, s.num_skipped_done,
-                s.num_skipped_few_matches, o.min_num_matches);
+                "(COLMAP's rows kept), %d point-only not estimated (COLMAP's verification found < %d inliers; rows "
+                "kept), %d already done, %d with < %d matches\n",
+                s.num_pairs, s.num_estimated, s.num_point_fallback, s.num_failed, s.num_not_verified,
+                o.min_num_inliers, s.num_skipped_done, s.num_skipped_few_matches, o.min_num_matches);
     std::printf("two_view_estimator: %d images, %d with depth; time %.2f s (read %.2f s, estimate %.2f s, write %.2f s)\n",
                 s.num_images, s.num_images_with_depth, s.total_seconds, s.read_seconds, s.estimate_seconds,
                 s.write_seconds);

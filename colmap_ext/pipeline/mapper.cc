@@ -238,9 +238,10 @@ MapperSummary RunMapperImpl(const MapperOptions& options, const std::function<vo
   s.two_view_seconds = Seconds(t0);
   fs::create_directories(out);  // after the database and depth checks: bad input leaves no output folder
   std::snprintf(buf, sizeof(buf),
-                "[1/4] two_view_estimator: %d pairs estimated (%d point-only), %d failed, %d already done (%.1f s)",
+                "[1/4] two_view_estimator: %d pairs estimated (%d point-only), %d failed, %d point-only not estimated "
+                "(COLMAP's verification found too few inliers), %d already done (%.1f s)",
                 s.two_view.num_estimated, s.two_view.num_point_fallback, s.two_view.num_failed,
-                s.two_view.num_skipped_done, s.two_view_seconds);
+                s.two_view.num_not_verified, s.two_view.num_skipped_done, s.two_view_seconds);
   say(false, buf);
 
   const auto t1 = Clock::now();

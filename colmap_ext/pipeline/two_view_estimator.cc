@@ -52,9 +52,11 @@ struct PairJob {
   const ImageData* image2 = nullptr;
   CameraMode mode = CameraMode::kCalibrated;
   std::vector<std::array<uint32_t, 2>> matches;
+  std::optional<int> colmap_num_inliers;  // COLMAP's own verified inlier count (nullopt: no row)
   // Results
   HybridEstimate estimate;
   bool point_fallback = false;
+  bool not_verified = false;  // point-only and COLMAP found < min_num_inliers: not estimated (see EstimatePair)
   bool ok = false;
 };
 
@@ -110,6 +112,14 @@ void EstimatePair(const TwoViewEstimatorOptions& options, PairJob* job) {
   if (static_cast<int>(p.with_both_depths.size()) < std::max(k_depth, 8)) {
     eo = PointOnlyOptions(eo);
     job->point_fallback = true;
+    // Every point-only model is a fundamental matrix, and COLMAP's verification already searched those at a looser
+    // threshold (4 px by default): where it found fewer than min_num_inliers inliers, the pair fails here too, after a search to
+    // max_iterations (10,000 six-point solves on the shared-focal path, ~1 s a pair). Such pairs keep COLMAP's row
+    // without that search. With depth priors the pair is still estimated.
+    if (job->colmap_num_inliers && *job->colmap_num_inliers < options.min_num_inliers) {
+      job->not_verified = true;
+      return;
+    }
   }
   job->estimate = EstimateHybridRelpose(p, eo);
   // A model that could not be written as a real pose (non-finite, zero translation, no focal) is a failure: the pair
@@ -280,12 +290,13 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version changes with the estimator's results ("madsfm-7": the epipolar
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-8": point-only
+  // pairs that COLMAP's verification rejected are not searched; "madsfm-7": the epipolar
   // focal lengths under the robust loss too; "madsfm-6": the focal lengths' standard deviations stored, the robust
   // last refinement; "madsfm-5": more iterations for two-focal point-only searches; "madsfm-4": the epipolar
   // focal lengths where they are precise; "madsfm-3": other basins' minimal models optimised, depth-less results
   // searched again), so pairs done by an older madsfm are estimated again.
-  s << "madsfm-7;mode=" << o.camera_mode << ";depth=" << depth
+  s << "madsfm-8;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";cheir="
@@ -567,6 +578,7 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
       job.image2 = &images[i2];
       job.mode = PairMode(options.camera_mode, *job.image1->camera, *job.image2->camera);
       job.matches = db->ReadMatches(job.pair_id);
+      job.colmap_num_inliers = db->ReadColmapNumInliers(job.pair_id);
     }
     const auto t1 = Clock::now();
     summary.read_seconds += Seconds(t0, t1);
@@ -588,6 +600,8 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
       if (job.ok) {
         ++summary.num_estimated;
         summary.num_point_fallback += job.point_fallback;
+      } else if (job.not_verified) {
+        ++summary.num_not_verified;
       } else {
         ++summary.num_failed;
       }

@@ -39,6 +39,7 @@ struct TwoViewEstimatorSummary {
   int num_estimated = 0;       // written with a madsfm model
   int num_point_fallback = 0;  // of which estimated with the point-only method (missing depth)
   int num_failed = 0;          // no model / too few inliers: COLMAP's row kept
+  int num_not_verified = 0;    // point-only pairs COLMAP's verification gave < min_num_inliers: not estimated, row kept
   int num_skipped_done = 0;    // already done with the same options (resume)
   int num_skipped_few_matches = 0;
   int num_shard_pairs = 0;     // sharded runs: pairs of this shard (of num_pairs - num_skipped_few_matches)

@@ -466,8 +466,10 @@ void ExpectReadsEverything(const Database& db, const Expected& e) {
     const std::optional<TwoViewGeometryRow> read = db.ReadTwoViewGeometry(pair_id);
     ASSERT_TRUE(read.has_value());
     ExpectSameRow(*read, row);
+    EXPECT_EQ(db.ReadColmapNumInliers(pair_id), std::optional<int>(static_cast<int>(row.inlier_matches.size())));
   }
   EXPECT_FALSE(db.ReadTwoViewGeometry(ImagePairToPairId(2, 3)).has_value());
+  EXPECT_FALSE(db.ReadColmapNumInliers(ImagePairToPairId(2, 3)).has_value());
 }
 
 std::string IntegrityCheck(const std::string& path) { return RawDb(path).QueryText("PRAGMA integrity_check"); }
@@ -626,6 +628,15 @@ void RunWriteRestoreScenario(const std::string& path, const Expected& e) {
       const auto read = db->ReadTwoViewGeometry(row.pair_id);
       ASSERT_TRUE(read.has_value());
       ExpectSameRow(*read, db->has_two_view_cameras() ? row : WithoutCameras(row));
+    }
+    // COLMAP's own inlier counts come from the backup now: madsfm's rows do not change them.
+    for (const auto& row : rows) {
+      const auto it = e.two_view.find(row.pair_id);
+      if (it == e.two_view.end()) {
+        EXPECT_FALSE(db->ReadColmapNumInliers(row.pair_id).has_value()) << row.pair_id;
+      } else {
+        EXPECT_EQ(db->ReadColmapNumInliers(row.pair_id), std::optional<int>(static_cast<int>(it->second.inlier_matches.size())));
+      }
     }
     // A pair with a geometry but no matches row got one, holding the inlier matches.
     EXPECT_EQ(db->ReadMatches(p14), rows[2].inlier_matches);
@@ -799,6 +810,29 @@ TEST_F(Colmap38Database, ReadsEverythingBackExactly) {
   auto db = Database::Open(path_, /*read_only=*/true);
   EXPECT_EQ(db->schema(), SchemaVersion::kColmap38);
   ExpectReadsEverything(*db, e);
+}
+
+// two_view_estimator asks for COLMAP's own verification result of a pair; once madsfm has written the pair, the
+// answer comes from the backup, not from madsfm's row.
+TEST_F(Colmap38Database, ColmapNumInliersComeFromTheBackup) {
+  const Expected e = Populate(path_, /*exotic_cameras=*/false);
+  const pair_t p13 = ImagePairToPairId(1, 3), p34 = ImagePairToPairId(3, 4), p23 = ImagePairToPairId(2, 3);
+  auto db = Database::Open(path_);
+  EXPECT_EQ(db->ReadColmapNumInliers(p13), std::optional<int>(40));
+  EXPECT_EQ(db->ReadColmapNumInliers(p34), std::optional<int>(0));  // verification failed: a row with 0 rows
+  EXPECT_FALSE(db->ReadColmapNumInliers(p23).has_value());          // no row at all
+  TwoViewGeometryRow row;
+  row.pair_id = p13;
+  row.inlier_matches.assign(e.matches.at(p13).begin(), e.matches.at(p13).begin() + 5);
+  row.config = kCalibrated;
+  row.E = Eigen::Matrix3d::Identity();
+  {
+    Database::Transaction transaction(db.get());
+    db->WriteTwoViewGeometry(row);
+    transaction.Commit();
+  }
+  EXPECT_EQ(db->ReadTwoViewGeometry(p13)->inlier_matches.size(), 5u);
+  EXPECT_EQ(db->ReadColmapNumInliers(p13), std::optional<int>(40));
 }
 
 TEST_F(Colmap38Database, WriteBackupRestoreRoundTrip) {

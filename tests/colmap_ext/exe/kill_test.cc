@@ -99,6 +99,19 @@ const KillProject& Project() {
   return project;
 }
 
+// The project folder holds ~180 MB of depth maps and both tests of this file use it: it is removed once, after the
+// last test of the binary (a test removing it would break the other one when both run in one process), and kept when
+// a test failed, to investigate.
+class KillProjectCleanup : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    const std::string dir =
+        (fs::temp_directory_path() / ("madsfm_kill_test_" + std::to_string(::getpid()))).string();
+    if (::testing::UnitTest::GetInstance()->failed_test_count() == 0) fs::remove_all(dir);
+  }
+};
+::testing::Environment* const kKillProjectCleanup = ::testing::AddGlobalTestEnvironment(new KillProjectCleanup);
+
 std::string CopyDatabase(const std::string& name) {
   const std::string path = Project().dir + "/" + name + ".db";
   fs::remove(path);
@@ -338,8 +351,6 @@ TEST(TwoViewEstimatorKill, KilledShardTaskResumesAndTheMergeEqualsTheReferenceRu
     EXPECT_EQ(FirstDifference(testing::DumpTable(db, table), testing::DumpTable(ref, table)), "") << table;
   }
   EXPECT_EQ(testing::IntegrityCheck(db), "ok");
-  // The folder holds ~180 MB of depth maps: keep it only to investigate a failure.
-  if (!::testing::Test::HasFailure()) fs::remove_all(Project().dir);
 }
 
 TEST(TwoViewEstimatorKill, KilledRunsLeaveWholeBatchesAndResumeToTheReferenceResult) {
@@ -495,8 +506,6 @@ TEST(TwoViewEstimatorKill, KilledRunsLeaveWholeBatchesAndResumeToTheReferenceRes
   std::printf("kill test: %d/%d kills mid-run, %d with some batches written, total %.1f s\n", num_killed_mid_run,
               kNumKills, num_partial,
               std::chrono::duration<double>(Clock::now() - t_test).count());
-  // The folder holds ~180 MB of depth maps: keep it only to investigate a failure.
-  if (!::testing::Test::HasFailure()) fs::remove_all(p.dir);
 }
 
 }  // namespace

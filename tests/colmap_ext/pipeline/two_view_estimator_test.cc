@@ -381,6 +381,44 @@ TEST(TwoViewEstimator, ImagesWithoutDepthFallBackToPoints) {
   EXPECT_EQ(s.num_images_with_depth, 0);
 }
 
+// A point-only pair whose COLMAP verification found fewer than min_num_inliers inliers (a row with 0 or 10 rows) is not
+// searched: its row stays COLMAP's, and madsfm records it as failed. A pair without a COLMAP row (verification never
+// ran) is estimated, and with depth priors every pair is.
+TEST(TwoViewEstimator, PointOnlyPairsColmapRejectedAreNotSearched) {
+  const Project p = MakeProject("not_verified", 3, false);
+  const auto id12 = colmap::ImagePairToPairId(1, 2), id34 = colmap::ImagePairToPairId(3, 4),
+             id56 = colmap::ImagePairToPairId(5, 6);
+  testing::ExecSql(p.db, "DELETE FROM two_view_geometries");
+  testing::ExecSql(p.db, "INSERT INTO two_view_geometries (pair_id, rows, cols, data, config) VALUES (" +
+                             std::to_string(id12) + ", 0, 2, NULL, 0)");
+  testing::ExecSql(p.db, "INSERT INTO two_view_geometries (pair_id, rows, cols, data, config) SELECT pair_id, 10, 2, "
+                         "substr(data, 1, 80), 3 FROM matches WHERE pair_id = " + std::to_string(id34));
+  TwoViewEstimatorOptions o = Options(p);
+  o.depth_path = p.dir + "/empty_depths";
+  fs::create_directories(o.depth_path);
+  const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(o);
+  EXPECT_EQ(s.num_not_verified, 2);
+  EXPECT_EQ(s.num_estimated, 1);
+  EXPECT_EQ(s.num_point_fallback, 1);
+  EXPECT_EQ(s.num_failed, 0);
+  {
+    auto db = colmap::Database::Open(p.db, true);
+    EXPECT_EQ(db->ReadMadsfmPair(id12)->status, 1);
+    EXPECT_EQ(db->ReadMadsfmPair(id34)->status, 1);
+    EXPECT_EQ(db->ReadMadsfmPair(id56)->status, 0);
+    EXPECT_EQ(db->ReadTwoViewGeometry(id12)->inlier_matches.size(), 0u);
+    EXPECT_EQ(db->ReadTwoViewGeometry(id34)->inlier_matches.size(), 10u);
+    EXPECT_GE(db->ReadTwoViewGeometry(id56)->inlier_matches.size(), 150u);
+  }
+  // A rerun counts them as done.
+  EXPECT_EQ(RunTwoViewEstimatorImpl(o).num_skipped_done, 3);
+  // With depth priors (another fingerprint) all three pairs are estimated.
+  const TwoViewEstimatorSummary with_depth = RunTwoViewEstimatorImpl(Options(p));
+  EXPECT_EQ(with_depth.num_not_verified, 0);
+  EXPECT_EQ(with_depth.num_estimated, 3);
+  EXPECT_EQ(with_depth.num_point_fallback, 0);
+}
+
 // Without depth evidence (every pair point-only) focal_estimator keeps COLMAP's cameras as they are.
 TEST(TwoViewEstimator, FocalEstimatorKeepsColmapsFocalWithoutDepthEvidence) {
   const Project p = MakeProject("nodepth_focal", 3, false);
