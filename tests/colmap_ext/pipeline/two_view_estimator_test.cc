@@ -63,6 +63,14 @@ TwoViewEstimatorOptions Options(const Project& p, int threads = 2) {
   return o;
 }
 
+// Options with an empty depth folder: every pair runs the point method.
+TwoViewEstimatorOptions OptionsWithoutDepth(const Project& p) {
+  TwoViewEstimatorOptions o = Options(p);
+  o.depth_path = p.dir + "/empty_depths";
+  fs::create_directories(o.depth_path);
+  return o;
+}
+
 TEST(TwoViewEstimator, EstimatesEveryPairAndWritesColmapRows) {
   const Project p = MakeProject("estimate", 6, false);
   const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(Options(p));
@@ -372,9 +380,7 @@ TEST(TwoViewEstimator, MetricDepthWithoutShifts) {
 
 TEST(TwoViewEstimator, ImagesWithoutDepthFallBackToPoints) {
   const Project p = MakeProject("nodepth", 3, true);
-  TwoViewEstimatorOptions o = Options(p);
-  o.depth_path = p.dir + "/no_such_folder_but_allowed";
-  fs::create_directories(o.depth_path);
+  const TwoViewEstimatorOptions o = OptionsWithoutDepth(p);
   const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(o);
   EXPECT_EQ(s.num_estimated, 3);
   EXPECT_EQ(s.num_point_fallback, 3);
@@ -393,9 +399,7 @@ TEST(TwoViewEstimator, PointOnlyPairsColmapRejectedAreNotSearched) {
                              std::to_string(id12) + ", 0, 2, NULL, 0)");
   testing::ExecSql(p.db, "INSERT INTO two_view_geometries (pair_id, rows, cols, data, config) SELECT pair_id, 10, 2, "
                          "substr(data, 1, 80), 3 FROM matches WHERE pair_id = " + std::to_string(id34));
-  TwoViewEstimatorOptions o = Options(p);
-  o.depth_path = p.dir + "/empty_depths";
-  fs::create_directories(o.depth_path);
+  const TwoViewEstimatorOptions o = OptionsWithoutDepth(p);
   const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(o);
   EXPECT_EQ(s.num_not_verified, 2);
   EXPECT_EQ(s.num_estimated, 1);
@@ -422,9 +426,7 @@ TEST(TwoViewEstimator, PointOnlyPairsColmapRejectedAreNotSearched) {
 // Without depth evidence (every pair point-only) focal_estimator keeps COLMAP's cameras as they are.
 TEST(TwoViewEstimator, FocalEstimatorKeepsColmapsFocalWithoutDepthEvidence) {
   const Project p = MakeProject("nodepth_focal", 3, false);
-  TwoViewEstimatorOptions o = Options(p);
-  o.depth_path = p.dir + "/empty_depths";
-  fs::create_directories(o.depth_path);
+  const TwoViewEstimatorOptions o = OptionsWithoutDepth(p);
   const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(o);
   ASSERT_EQ(s.num_point_fallback, 3);
   const std::string before = testing::DumpTable(p.db, "cameras");
