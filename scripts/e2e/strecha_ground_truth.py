@@ -8,7 +8,7 @@ rotation), the camera centre C, and the image size. World to camera is then x_ca
 and t_gt = -R^T C; f is the mean of K's fx and fy.
 
 Usage: strecha_ground_truth.py CAMERA_DIR IMAGE_DIR > ground_truth.json
-Only images present in IMAGE_DIR with a .camera file are written (castle-P19 has none for 0000-0003).
+Only images present in IMAGE_DIR with a .camera file are written.
 """
 import json
 import os
