@@ -635,7 +635,8 @@ void RunWriteRestoreScenario(const std::string& path, const Expected& e) {
       if (it == e.two_view.end()) {
         EXPECT_FALSE(db->ReadColmapNumInliers(row.pair_id).has_value()) << row.pair_id;
       } else {
-        EXPECT_EQ(db->ReadColmapNumInliers(row.pair_id), std::optional<int>(static_cast<int>(it->second.inlier_matches.size())));
+        const int colmap_inliers = static_cast<int>(it->second.inlier_matches.size());
+        EXPECT_EQ(db->ReadColmapNumInliers(row.pair_id), std::optional<int>(colmap_inliers));
       }
     }
     // A pair with a geometry but no matches row got one, holding the inlier matches.
