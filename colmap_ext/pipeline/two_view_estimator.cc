@@ -292,7 +292,7 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
   // Every option that changes a result. The version changes with the estimator's results ("madsfm-8": point-only
-  // pairs that COLMAP's verification rejected are not searched; "madsfm-7": the epipolar
+  // pairs that COLMAP's verification rejected are not searched, a drifting scale is reset; "madsfm-7": the epipolar
   // focal lengths under the robust loss too; "madsfm-6": the focal lengths' standard deviations stored, the robust
   // last refinement; "madsfm-5": more iterations for two-focal point-only searches; "madsfm-4": the epipolar
   // focal lengths where they are precise; "madsfm-3": other basins' minimal models optimised, depth-less results

@@ -163,6 +163,9 @@ struct HybridEstimate {
   double sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
   double sigma_scale = std::numeric_limits<double>::quiet_NaN();
   bool depth_observable = false;
+  // The fitted scale left [1/1000, 1000] x the ratio of the two views' median priors (it drifts to 0 or infinity
+  // where nothing determines it, e.g. a pure rotation): it was replaced by that ratio, and depth_observable is false.
+  bool scale_reset = false;
   // Focal modes: relative standard deviations of f0 and f1 at the final model, pose, scale and shifts free (the
   // marginal Gauss-Newton ones; shared focal: both the same); NaN when calibrated or not computable. Large where
   // the data leave the focal length open (small baselines with little rotation, forward motion).

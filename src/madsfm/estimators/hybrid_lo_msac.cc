@@ -16,6 +16,9 @@
 namespace madsfm {
 namespace {
 
+// Bound of the fitted scale around the ratio of the views' median priors (HybridEstimate::scale_reset).
+constexpr double kMaxScaleRatio = 1000.0;
+
 // Inlier ratios of the data types that drive the solver probabilities.
 struct InlierRatios {
   double both_depths = 0.0;  // correspondences with both priors that are inliers of both reprojection types
@@ -624,6 +627,19 @@ HybridEstimate Engine::Run() {
     // sets the check removed flagged runs of average quality (docs/benchmarks.md), so it is not applied there.
     result.depth_observable = w_.use_reprojection && shifts_determined && result.sigma_scale <= o_.max_depth_sigma &&
                               (w_.use_shift || ParallaxMeasurable(best));
+    // A scale that ran off towards 0 or infinity carries no information: at a pure rotation every scale fits (the
+    // second view's points far away transfer like a rotation), and the fits follow the flat cost outwards (4.7e10 on
+    // one pair of depth_observable_test). Such a result gets the priors' own ratio of medians and says it is not
+    // observable, instead of returning the drift.
+    const double scale_reference = median_prior0_ / median_prior1_;
+    if (!(best.scale >= scale_reference / kMaxScaleRatio && best.scale <= scale_reference * kMaxScaleRatio)) {
+      best.scale = scale_reference;
+      ComputeInliers(p_, best, w_, &inliers_);
+      best_score = ScoreModel(p_, best, w_);
+      result.depth_observable = false;
+      result.sigma_scale = std::numeric_limits<double>::quiet_NaN();
+      result.scale_reset = true;
+    }
     result.model = best;
     result.score = best_score;
     const int n = p_.size();

@@ -3,6 +3,7 @@
 // truth; on pairs whose baseline is 0.1% of the depth the priors cannot determine them and the result says so.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -16,7 +17,17 @@ namespace {
 struct Outcome {
   int observable = 0, total = 0;
   int finite_sigmas = 0;
+  int scale_resets = 0;
 };
+
+double MedianOfPositive(const std::vector<double>& d) {
+  std::vector<double> v;
+  for (double x : d) {
+    if (std::isfinite(x) && x > 0.0) v.push_back(x);
+  }
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
 
 Outcome EstimateSet(const SyntheticPairOptions& options, uint64_t first_seed, int num_pairs,
                     bool estimate_shift = true) {
@@ -35,6 +46,15 @@ Outcome EstimateSet(const SyntheticPairOptions& options, uint64_t first_seed, in
     if (!est.success) continue;
     ++out.total;
     out.observable += est.depth_observable;
+    // No scale drifting off to 0 or infinity (a pure rotation gave 4.7e10 once): within 1000x of the priors' own
+    // ratio of medians, and a scale that had to be reset is not observable.
+    const double reference = MedianOfPositive(d0) / MedianOfPositive(d1);
+    EXPECT_GE(est.model.scale, reference / 1000.0 * (1.0 - 1e-9)) << "seed " << first_seed + k;
+    EXPECT_LE(est.model.scale, reference * 1000.0 * (1.0 + 1e-9)) << "seed " << first_seed + k;
+    if (est.scale_reset) {
+      EXPECT_FALSE(est.depth_observable);
+    }
+    out.scale_resets += est.scale_reset;
     if (!estimate_shift) {
       // Scale only: the shifts are not estimated, so they have no sigma, and the scale's alone decides.
       EXPECT_TRUE(std::isnan(est.sigma_shift0) && std::isnan(est.sigma_shift1));
@@ -84,8 +104,9 @@ TEST(DepthObservable, ScaleOnlyModelSaysSoWithTheScaleAlone) {
   SyntheticPairOptions rotation = metric;
   rotation.baseline_min = rotation.baseline_max = 1e-5;
   const Outcome tiny = EstimateSet(rotation, 600, 30, false);
-  std::printf("scale only: baselines 5-30%%: %d of %d observable; 0.001%%: %d of %d\n", real.observable, real.total,
-              tiny.observable, tiny.total);
+  std::printf("scale only: baselines 5-30%%: %d of %d observable; 0.001%%: %d of %d (%d scales reset)\n",
+              real.observable, real.total, tiny.observable, tiny.total, tiny.scale_resets);
+  EXPECT_EQ(real.scale_resets, 0);
   ASSERT_GE(real.total, 28);
   ASSERT_GE(tiny.total, 20);
   EXPECT_EQ(real.finite_sigmas, real.total);
