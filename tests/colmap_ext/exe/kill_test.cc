@@ -55,11 +55,15 @@ struct KillProject {
 // 150 identity matches with 30% outliers, depth sidecars. Every 25th pair gets shuffled matches (mostly wrong, so
 // it may fail and keep COLMAP's row). COLMAP's own two_view_geometries rows (config 3, all matches) exist for the
 // pairs whose second image id is not a multiple of 3, so "intact original rows" covers both present and absent rows.
+// One folder per process: ctest runs the two kill tests of this file at the same time.
+std::string KillProjectDir() {
+  return (fs::temp_directory_path() / ("madsfm_kill_test_" + std::to_string(::getpid()))).string();
+}
+
 const KillProject& Project() {
   static const KillProject project = [] {
     KillProject p;
-    // One folder per process: ctest runs the two kill tests of this file at the same time.
-    p.dir = (fs::temp_directory_path() / ("madsfm_kill_test_" + std::to_string(::getpid()))).string();
+    p.dir = KillProjectDir();
     fs::remove_all(p.dir);
     fs::create_directories(p.dir + "/depths");
     p.original_db = p.dir + "/original.db";
@@ -105,9 +109,7 @@ const KillProject& Project() {
 class KillProjectCleanup : public ::testing::Environment {
  public:
   void TearDown() override {
-    const std::string dir =
-        (fs::temp_directory_path() / ("madsfm_kill_test_" + std::to_string(::getpid()))).string();
-    if (::testing::UnitTest::GetInstance()->failed_test_count() == 0) fs::remove_all(dir);
+    if (::testing::UnitTest::GetInstance()->failed_test_count() == 0) fs::remove_all(KillProjectDir());
   }
 };
 ::testing::Environment* const kKillProjectCleanup = ::testing::AddGlobalTestEnvironment(new KillProjectCleanup);
