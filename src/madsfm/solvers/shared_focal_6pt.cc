@@ -5,8 +5,9 @@
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <limits>
+
+#include "madsfm/solvers/hessenberg_eigenvalues.h"
 
 // Method. The 6 epipolar constraints leave a 3-dimensional space F = x F1 + y F2 + F3. With
 // K = diag(f, f, 1), E = K F K is essential iff det(F) = 0 and 2 F Q F^T Q F - tr(F Q F^T Q) F = 0
@@ -15,7 +16,8 @@
 // read (C0 + w C1 + w^2 C2) m = 0. Every w^2 term carries the factor F33 (entry (2, 2)), so
 // C2 = G H with H (6x10) the coefficients of F33 * [x^2, x y, y^2, x, y, 1] and G (10x6): rank 6.
 // With n = w H m and mu = 1 / w = f^2 the quadratic eigenvalue problem becomes the 16x16
-// eigenproblem mu [m; n] = [-C0^-1 C1, -C0^-1 G; H, 0] [m; n] (one extra eigenvalue, mu = 0).
+// eigenproblem mu [m; n] = [-C0^-1 C1, -C0^-1 G; H, 0] [m; n] (one extra eigenvalue, mu = 0), solved
+// for its eigenvalues only (Hessenberg form, then HessenbergEigenvalues).
 // Real eigenvalues mu > 0 give candidates; x, y come from the null vector of C0 + w C1 + w^2 C2,
 // (x, y, w) are polished by Gauss-Newton on the 10 equations and every candidate is verified
 // (E = K F K essential to 1e-9) before it is returned. F is returned with unit Frobenius norm.
@@ -197,21 +199,20 @@ int SolveSharedFocal6pt(const std::vector<Eigen::Vector2d>& p0, const std::vecto
   if (!M.allFinite()) return 0;
   // Eigenvalues mu = f^2 (in normalised units); the linearisation has one spurious eigenvalue mu = 0
   // (numerically about 1e-14).
-  const Eigen::EigenSolver<Mat16> es(M, /*computeEigenvectors=*/false);
-  if (es.info() != Eigen::Success) return 0;
+  Mat16 hessenberg = Eigen::HessenbergDecomposition<Mat16>(M).matrixH();
+  double lambda_real[16], lambda_imag[16];
+  if (!HessenbergEigenvalues(hessenberg, lambda_real, lambda_imag)) return 0;
   // Real eigenvalues, and one of each nearly real complex pair (a real double root split by round-off;
   // the polishing below decides). mu below 1e-10 of the largest eigenvalue is the spurious zero
   // (a focal length below 1e-5 of the point spread would be meaningless anyway).
   double lambda_max = 0.0;
-  for (int e = 0; e < 16; ++e) lambda_max = std::max(lambda_max, std::abs(es.eigenvalues()[e]));
+  for (int e = 0; e < 16; ++e) lambda_max = std::max(lambda_max, std::hypot(lambda_real[e], lambda_imag[e]));
   double roots[16];
   int num_roots = 0;
   for (int e = 0; e < 16; ++e) {
-    const std::complex<double> lambda = es.eigenvalues()[e];
-    if (!(lambda.real() > 1e-10 * lambda_max) || lambda.imag() < 0.0 || lambda.imag() > 1e-4 * lambda.real()) {
-      continue;
-    }
-    roots[num_roots++] = lambda.real();
+    const double re = lambda_real[e], im = lambda_imag[e];
+    if (!(re > 1e-10 * lambda_max) || im < 0.0 || im > 1e-4 * re) continue;
+    roots[num_roots++] = re;
   }
 
   solutions->reserve(kMaxSolutions);
