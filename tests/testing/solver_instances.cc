@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "testing/median.h"
+
 namespace madsfm::testing {
 namespace {
 
@@ -15,11 +17,6 @@ Eigen::Matrix3d RandomRotation(std::mt19937& rng, double max_angle_rad) {
   Eigen::Vector3d axis(Uniform(rng, -1, 1), Uniform(rng, -1, 1), Uniform(rng, -1, 1));
   while (axis.norm() < 1e-3) axis = Eigen::Vector3d(Uniform(rng, -1, 1), Uniform(rng, -1, 1), Uniform(rng, -1, 1));
   return Eigen::AngleAxisd(Uniform(rng, 0.0, max_angle_rad), axis.normalized()).toRotationMatrix();
-}
-
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 }  // namespace

@@ -9,14 +9,12 @@
 
 #include "madsfm/estimators/pair_evaluation.h"
 #include "madsfm/synthetic/two_view_scene.h"
+#include "testing/median.h"
 
 namespace madsfm {
 namespace {
 
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+using testing::Median;
 
 struct Outcome {
   double median_focal_err = 0.0;

@@ -14,14 +14,12 @@
 
 #include "madsfm/estimators/pair_evaluation.h"
 #include "madsfm/synthetic/two_view_scene.h"
+#include "testing/median.h"
 
 namespace madsfm {
 namespace {
 
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
+using testing::Median;
 
 struct Comparison {
   int better = 0, worse = 0, total = 0;  // pairs whose pose error moved by more than 10% (and 0.02 deg)

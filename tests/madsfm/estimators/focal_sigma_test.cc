@@ -12,6 +12,7 @@
 #include "madsfm/estimators/estimate_relpose.h"
 #include "madsfm/estimators/pair_evaluation.h"
 #include "madsfm/synthetic/two_view_scene.h"
+#include "testing/median.h"
 
 namespace madsfm {
 namespace {
@@ -21,11 +22,7 @@ struct SigmaSet {
   int calibrated_nan = 0, runs = 0;
 };
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return std::nan("");
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+using testing::Median;
 
 SigmaSet Estimate(const SyntheticPairOptions& options, CameraMode mode, uint64_t first_seed, int num_pairs) {
   SigmaSet out;

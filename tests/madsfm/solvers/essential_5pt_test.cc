@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "testing/solver_instances.h"
+#include "testing/median.h"
 
 namespace madsfm {
 namespace {
@@ -104,10 +105,7 @@ Eigen::Matrix3d RotationFromEssential(const Eigen::Matrix3d& e, const std::vecto
   return best;
 }
 
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+using testing::Median;
 
 TEST(Essential5pt, RecoversGroundTruthOnNoiseFreeInstances) {
   std::mt19937 rng(20240501);

@@ -14,6 +14,7 @@
 #include "madsfm/solvers/affine_depth_solver_utils.h"
 #include "testing/solver_corruptions.h"
 #include "testing/solver_instances.h"
+#include "testing/median.h"
 
 namespace madsfm {
 namespace {
@@ -35,10 +36,7 @@ double RotationErrorDeg(const Eigen::Matrix3d& R, const Eigen::Matrix3d& R_gt) {
   return std::acos(c) * 180.0 / M_PI;
 }
 
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+using testing::Median;
 
 // Largest relative residual of scale (d1 + shift1) [x1;1] = R (d0 + shift0) [x0;1] + t over the sample.
 double SampleResidual(const AffineDepthPose& m, const std::vector<Eigen::Vector2d>& x0,

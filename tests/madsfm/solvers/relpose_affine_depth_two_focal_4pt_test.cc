@@ -13,6 +13,7 @@
 #include "madsfm/solvers/affine_depth_solver_utils.h"
 #include "testing/solver_corruptions.h"
 #include "testing/solver_instances.h"
+#include "testing/median.h"
 
 namespace madsfm {
 namespace {
@@ -41,10 +42,7 @@ double RotationErrorDeg(const Eigen::Matrix3d& R, const Eigen::Matrix3d& R_gt) {
   return std::acos(c) * 180.0 / M_PI;
 }
 
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+using testing::Median;
 
 Eigen::Vector3d Lift(const Eigen::Vector2d& p, double f, double depth) {
   return depth * Eigen::Vector3d(p.x() / f, p.y() / f, 1.0);

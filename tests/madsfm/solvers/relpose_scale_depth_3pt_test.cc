@@ -14,6 +14,7 @@
 #include "madsfm/solvers/affine_depth_solver_utils.h"
 #include "testing/solver_corruptions.h"
 #include "testing/solver_instances.h"
+#include "testing/median.h"
 
 namespace madsfm {
 namespace {
@@ -41,10 +42,7 @@ double RotationErrorDeg(const Eigen::Matrix3d& R, const Eigen::Matrix3d& R_gt) {
   return std::acos(c) * 180.0 / M_PI;
 }
 
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+using testing::Median;
 
 // sum_i ||scale d1_i [x1_i;1] - (R d0_i [x0_i;1] + t)||^2: the cost the solver minimises.
 double Cost(const AffineDepthPose& m, const SolverInstance& in) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "testing/solver_instances.h"
+#include "testing/median.h"
 
 namespace madsfm {
 namespace {
@@ -74,10 +75,7 @@ double RotationErrorDeg(const Eigen::Matrix3d& R, const Eigen::Matrix3d& R_gt) {
   return std::acos(c) * 180.0 / M_PI;
 }
 
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+using testing::Median;
 
 TEST(RelposeScaleDepthSharedFocal3pt, RecoversGroundTruthOnNoiseFreeInstances) {
   std::mt19937 rng(20240602);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "testing/solver_instances.h"
+#include "testing/median.h"
 
 namespace madsfm {
 namespace {
@@ -140,10 +141,7 @@ double RotationErrorDeg(const Eigen::Matrix3d& R, const Eigen::Matrix3d& R_gt) {
   return std::acos(c) * 180.0 / M_PI;
 }
 
-double Median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+using testing::Median;
 
 SolverInstanceOptions SharedFocalOptions(double pixel_noise) {
   SolverInstanceOptions options;
