@@ -63,6 +63,8 @@ struct EstimatorFlags {
                        "optimised too (0: off).");
     parser->AddDefault("retry_depth_less", &options.retry_depth_less,
                        "Hybrid: search once more when the result has almost no depth inliers (1) or not (0).");
+    parser->AddDefault("scale_only_fallback", &options.scale_only_fallback,
+                       "Hybrid: estimate again without shifts when the priors do not determine them (1) or not (0).");
     parser->AddDefault("max_shift_ratio", &options.max_shift_ratio,
                        "Bound of |shift| in median priors of its view (0: unbounded).");
     parser->AddDefault("final_depth_fit", &options.final_depth_fit,
@@ -358,7 +360,7 @@ int RunBench(int argc, char** argv) {
       if (!csv) throw std::runtime_error("cannot write '" + csv_path + "'");
       csv << "pair,method,camera_mode,status,qw,qx,qy,qz,tx,ty,tz,f0,f1,scale,shift0,shift1,num_inliers,runtime_ms,"
              "rot_err_deg,trans_err_deg,focal_err,depth_err,depth_err_oracle,depth_support,seed,depth_observable,"
-             "sigma_scale,sigma_shift0,sigma_shift1,sigma_focal0,sigma_focal1\n";
+             "sigma_scale,sigma_shift0,sigma_shift1,sigma_focal0,sigma_focal1,shifts_dropped\n";
       // Numbers as the shortest round-trip text (FormatDouble), as in the JSON outputs.
       auto num = [](double v) { return FormatDouble(v); };
       auto opt = [](const std::optional<double>& v) { return v ? FormatDouble(*v) : std::string(); };
@@ -382,7 +384,7 @@ int RunBench(int argc, char** argv) {
         for (double v : {r.sigma_scale, r.sigma_shift0, r.sigma_shift1, r.sigma_focal0, r.sigma_focal1}) {
           csv << ',' << (std::isfinite(v) ? num(v) : std::string());
         }
-        csv << '\n';
+        csv << ',' << (r.shifts_dropped ? 1 : 0) << '\n';
       }
       const std::string json_path = (std::filesystem::path(output_path) / "summary.json").string();
       std::ofstream js(json_path);

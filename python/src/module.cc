@@ -31,7 +31,7 @@ namespace {
   X(lo_threshold_multiplier) X(lo_inner_sample_multiplier) X(lo_lsq_sample_size) X(lo_starting_iterations)      \
   X(alt_basin_lo_margin) X(lo_max_lm_iterations) X(final_refinement) X(final_max_lm_iterations)                \
   X(final_reprojection_weight) X(epipolar_focal_max_sigma) X(final_cauchy_ratio)                               \
-  X(epipolar_check_ratio) X(retry_depth_less) X(max_shift_ratio) X(final_depth_fit) X(depth_fit_regression) X(max_depth_sigma) X(seed)
+  X(epipolar_check_ratio) X(retry_depth_less) X(scale_only_fallback) X(max_shift_ratio) X(final_depth_fit) X(depth_fit_regression) X(max_depth_sigma) X(seed)
 
 const char* SolverChoiceName(SolverChoice c) {
   switch (c) {
@@ -329,6 +329,7 @@ const std::vector<std::pair<const char*, ResultGetter>>& ResultFields() {
       {"sigma_scale", [](R r) -> py::object { return py::float_(r.estimate.sigma_scale); }},
       {"sigma_shift0", [](R r) -> py::object { return py::float_(r.estimate.sigma_shift0); }},
       {"sigma_shift1", [](R r) -> py::object { return py::float_(r.estimate.sigma_shift1); }},
+      {"shifts_dropped", [](R r) -> py::object { return py::bool_(r.estimate.shifts_dropped); }},
       {"sigma_focal0", [](R r) -> py::object { return py::float_(r.estimate.sigma_focal0); }},
       {"sigma_focal1", [](R r) -> py::object { return py::float_(r.estimate.sigma_focal1); }},
       {"runtime_ms", [](R r) -> py::object { return py::float_(r.estimate.runtime_ms); }},
@@ -400,6 +401,7 @@ py::dict ResultState(const RelativePoseResult& r) {
   d["sigma_scale"] = e.sigma_scale;
   d["sigma_shift0"] = e.sigma_shift0;
   d["sigma_shift1"] = e.sigma_shift1;
+  d["shifts_dropped"] = e.shifts_dropped;
   d["sigma_focal0"] = e.sigma_focal0;
   d["sigma_focal1"] = e.sigma_focal1;
   d["runtime_ms"] = e.runtime_ms;
@@ -457,6 +459,7 @@ RelativePoseResult ResultFromState(const py::dict& d) {
     e.sigma_focal0 = get("sigma_focal0").cast<double>();
     e.sigma_focal1 = get("sigma_focal1").cast<double>();
   }
+  if (d.contains("shifts_dropped")) e.shifts_dropped = get("shifts_dropped").cast<bool>();
   e.runtime_ms = get("runtime_ms").cast<double>();
   return r;
 }

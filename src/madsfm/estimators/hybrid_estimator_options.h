@@ -112,6 +112,13 @@ struct HybridEstimatorOptions {
   // is searched once more with a seed derived from `seed`; the lower score wins (on the held-out hard pairs every such
   // result was a wrong basin; docs/benchmarks.md section 11).
   bool retry_depth_less = true;
+  // Hybrid with shifts: a result whose depth corrections the priors do not determine (depth_observable false) on a
+  // pair where most matches have priors is estimated again with the scale-only model (estimate_shift false, same
+  // seed), which replaces it when it succeeds with an MSAC score at most as high (HybridEstimate::shifts_dropped;
+  // still not depth_observable). Two free shifts let the pose slide along a flat valley where nothing pins them
+  // (small baselines, one dominant plane); the simpler model then fits as well. docs/benchmarks.md section 11
+  // (update of 2026-12-03 evening).
+  bool scale_only_fallback = true;
 
   // Bound of the shifts: |shift_i| <= max_shift_ratio x the median prior of view i (0: unbounded). A shift of many
   // times the depths themselves flattens the corrected depth map; it only ever appears where the depths are not
@@ -166,6 +173,9 @@ struct HybridEstimate {
   // The fitted scale left [1/1000, 1000] x the ratio of the two views' median priors (it drifts to 0 or infinity
   // where nothing determines it, e.g. a pure rotation): it was replaced by that ratio, and depth_observable is false.
   bool scale_reset = false;
+  // The result with shifts had undetermined depth corrections and is the scale-only search's (scale_only_fallback):
+  // shifts are 0 with NaN sigmas, and depth_observable stays false (the shifts were assumed, not measured).
+  bool shifts_dropped = false;
   // Focal modes: relative standard deviations of f0 and f1 at the final model, pose, scale and shifts free (the
   // marginal Gauss-Newton ones; shared focal: both the same); NaN when calibrated or not computable. Large where
   // the data leave the focal length open (small baselines with little rotation, forward motion).

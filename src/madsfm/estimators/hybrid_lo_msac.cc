@@ -724,6 +724,34 @@ HybridEstimate EstimateHybridRelpose(const RelposeProblem& problem, const Hybrid
     result.num_point_samples += competitor.num_point_samples;
     result.num_lo += competitor.num_lo;
   }
+  const bool undetermined_shifts = options.scale_only_fallback && options.estimate_shift &&
+                                   options.solvers == SolverChoice::kHybrid &&
+                                   options.scoring == ScoringMode::kHybrid && result.success &&
+                                   !result.depth_observable &&
+                                   2 * problem.with_both_depths.size() >= static_cast<size_t>(problem.size());
+  if (undetermined_shifts) {
+    HybridEstimatorOptions scale_only = options;
+    scale_only.estimate_shift = false;
+    HybridEstimate fallback = EstimateHybridRelpose(problem, scale_only);
+    // The work of both searches.
+    const int iterations = result.iterations + fallback.iterations;
+    const int num_lo = result.num_lo + fallback.num_lo;
+    const int num_depth_samples = result.num_depth_samples + fallback.num_depth_samples;
+    const int num_point_samples = result.num_point_samples + fallback.num_point_samples;
+    // The simpler model replaces the result only when it explains the data at least as well (MSAC score): where
+    // the priors really need shifts (affine monocular depth with a poorly determined focal length) it scores worse.
+    if (fallback.success && fallback.score <= result.score) {
+      result = std::move(fallback);
+      result.shifts_dropped = true;
+      // The shifts were assumed 0, not measured: the corrections stay unobservable (seed_model must not build
+      // low-parallax seeds from them).
+      result.depth_observable = false;
+    }
+    result.iterations = iterations;
+    result.num_lo = num_lo;
+    result.num_depth_samples = num_depth_samples;
+    result.num_point_samples = num_point_samples;
+  }
   result.runtime_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -162,6 +162,11 @@ PairResult EvaluatePair(const PairData& pair, CameraMode mode, const std::string
     r.num_inliers_reproj1 = est.num_inliers_reproj1;
     r.num_inliers_sampson = est.num_inliers_sampson;
     r.depth_observable = est.depth_observable;
+    r.shifts_dropped = est.shifts_dropped;
+    r.score = est.score;
+    if (est.shifts_dropped) {
+      r.notes.push_back("the priors do not determine the shifts: estimated again without shifts (scale only)");
+    }
     r.sigma_scale = est.sigma_scale;
     r.sigma_shift0 = est.sigma_shift0;
     r.sigma_shift1 = est.sigma_shift1;

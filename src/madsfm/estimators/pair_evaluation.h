@@ -36,6 +36,8 @@ struct PairResult {
   double sigma_scale = std::numeric_limits<double>::quiet_NaN();
   double sigma_shift0 = std::numeric_limits<double>::quiet_NaN();
   double sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
+  bool shifts_dropped = false;  // HybridEstimate::shifts_dropped (also a note)
+  double score = std::numeric_limits<double>::quiet_NaN();  // HybridEstimate::score
   // Focal modes: relative standard deviations of the focal lengths (HybridEstimate::sigma_focal0/1).
   double sigma_focal0 = std::numeric_limits<double>::quiet_NaN();
   double sigma_focal1 = std::numeric_limits<double>::quiet_NaN();

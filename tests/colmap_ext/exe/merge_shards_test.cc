@@ -339,6 +339,7 @@ TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
       {"final_cauchy_ratio", [](HybridEstimatorOptions* e) { e->final_cauchy_ratio = 0.0; }},
       {"epipolar_check_ratio", [](HybridEstimatorOptions* e) { e->epipolar_check_ratio = 1.5; }},
       {"retry_depth_less", [](HybridEstimatorOptions* e) { e->retry_depth_less = !e->retry_depth_less; }},
+      {"scale_only_fallback", [](HybridEstimatorOptions* e) { e->scale_only_fallback = !e->scale_only_fallback; }},
       {"max_shift_ratio", [](HybridEstimatorOptions* e) { e->max_shift_ratio += 1; }},
       {"final_depth_fit", [](HybridEstimatorOptions* e) { e->final_depth_fit = !e->final_depth_fit; }},
       {"depth_fit_regression", [](HybridEstimatorOptions* e) { e->depth_fit_regression = !e->depth_fit_regression; }},

@@ -107,7 +107,7 @@ TEST(BenchCommand, PerPairCsvCarriesTheDepthFlagAndItsSigmas) {
   std::map<std::string, size_t> col;
   for (size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
   for (const char* name : {"depth_observable", "sigma_scale", "sigma_shift0", "sigma_shift1", "sigma_focal0",
-                           "depth_err", "depth_err_oracle"}) {
+                           "depth_err", "depth_err_oracle", "shifts_dropped"}) {
     ASSERT_TRUE(col.count(name)) << name;
   }
   int hybrid_measured = 0, hybrid_observable = 0, observable_good = 0, points_rows = 0;
@@ -125,14 +125,23 @@ TEST(BenchCommand, PerPairCsvCarriesTheDepthFlagAndItsSigmas) {
       continue;
     }
     ASSERT_EQ(method, "hybrid");
-    bool within = true;
-    for (const char* name : {"sigma_scale", "sigma_shift0", "sigma_shift1"}) {
-      ASSERT_FALSE(f[col[name]].empty()) << name << ": " << line;
-      const double sigma = std::stod(f[col[name]]);
-      EXPECT_GE(sigma, 0.0);
-      within = within && sigma <= 0.1;  // the default --max_depth_sigma
+    ASSERT_TRUE(f[col["shifts_dropped"]] == "0" || f[col["shifts_dropped"]] == "1") << line;
+    if (f[col["shifts_dropped"]] == "1") {
+      // Undetermined shifts, replaced by the scale-only search's result: shifts 0, not estimated, not observable.
+      EXPECT_FALSE(observable) << line;
+      EXPECT_EQ(std::stod(f[col["shift0"]]), 0.0) << line;
+      EXPECT_EQ(std::stod(f[col["shift1"]]), 0.0) << line;
+      EXPECT_TRUE(f[col["sigma_shift0"]].empty() && f[col["sigma_shift1"]].empty()) << line;
+    } else {
+      bool within = true;
+      for (const char* name : {"sigma_scale", "sigma_shift0", "sigma_shift1"}) {
+        ASSERT_FALSE(f[col[name]].empty()) << name << ": " << line;
+        const double sigma = std::stod(f[col[name]]);
+        EXPECT_GE(sigma, 0.0);
+        within = within && sigma <= 0.1;  // the default --max_depth_sigma
+      }
+      EXPECT_EQ(observable, within) << line;  // with shifts (hybrid's default) the sigmas decide
     }
-    EXPECT_EQ(observable, within) << line;  // with shifts (hybrid's default) the sigmas decide
     if (f[col["depth_err"]].empty()) continue;
     ++hybrid_measured;
     hybrid_observable += observable;
