@@ -83,8 +83,8 @@ bool HessenbergEigenvalues(Eigen::Ref<Eigen::MatrixXd> H, double* real, double* 
     if (++total_iterations > 30 * n) return false;
     ++iterations;
 
-    // Shifts: the eigenvalues of the trailing 2 x 2 block (sum s, product t), or ad hoc ones after
-    // 10 and 20 steps without deflation (they break the rare cycles of the standard shifts).
+    // Shifts: the eigenvalues of the trailing 2 x 2 block (sum s, product t), or ad hoc ones at every
+    // 10th step without deflation (they break the rare cycles of the standard shifts).
     double s, t;
     if (iterations % 10 == 0) {
       const double e = std::abs(H(iu, iu - 1)) + std::abs(H(iu - 1, iu - 2));
