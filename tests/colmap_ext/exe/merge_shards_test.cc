@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -21,6 +22,7 @@
 #include "colmap_ext/synthetic/synthetic_project.h"
 #include "testing/colmap_database_builder.h"
 #include "testing/error_of.h"
+#include "testing/temp_dir.h"
 
 namespace madsfm {
 namespace {
@@ -33,13 +35,14 @@ constexpr int kMinNumMatches = 60;  // the project has 30-150 matches per pair: 
 
 // One synthetic project per test (name), with COLMAP's own rows for a few pairs (so the backup table has content).
 struct Project {
+  std::shared_ptr<testing::TempDir> scratch;  // removed with the last copy of the project
   std::string dir, db, depths;
 };
 
 Project MakeProject(const std::string& name, uint64_t seed = 11) {
   Project p;
-  p.dir = (fs::temp_directory_path() / ("madsfm_merge_" + name)).string();
-  fs::remove_all(p.dir);
+  p.scratch = std::make_shared<testing::TempDir>("merge_" + name);
+  p.dir = p.scratch->Sub("project");
   colmap::SyntheticProjectOptions o;
   o.output_path = p.dir;
   o.num_pairs = kNumPairs;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "madsfm/io/npy.h"
+#include "testing/temp_dir.h"
 
 namespace {
 
@@ -36,9 +37,9 @@ CliRun RunCli(const std::string& args) {
   return {WEXITSTATUS(status), out};
 }
 
-std::string CopyPair(const std::string& name) {
-  const fs::path dst = fs::temp_directory_path() / ("madsfm_pair_cli_" + name);
-  fs::remove_all(dst);
+// A writable copy of the example pair 1_eth3d inside `scratch`.
+std::string CopyPair(const madsfm::testing::TempDir& scratch) {
+  const fs::path dst = scratch.Sub("pair");
   fs::copy(fs::path(MADSFM_EXAMPLE_PAIRS_DIR) / "1_eth3d", dst);
   for (const auto& e : fs::directory_iterator(dst)) fs::permissions(e.path(), fs::perms::owner_write, fs::perm_options::add);
   return dst.string();
@@ -92,8 +93,8 @@ std::vector<std::string> SplitCsvLine(const std::string& line) {
 // `bench` writes whether each estimate determines its depth corrections, with their standard deviations, and says in
 // summary.json how often it did and how good the flagged ones were against the true depths.
 TEST(BenchCommand, PerPairCsvCarriesTheDepthFlagAndItsSigmas) {
-  const fs::path dir = fs::temp_directory_path() / "madsfm_bench_cli_observable";
-  fs::remove_all(dir);
+  const madsfm::testing::TempDir scratch("bench_cli_observable");
+  const fs::path dir = scratch.path();
   const CliRun synth = RunCli("synth --preset hard_low_parallax_calibrated --num_pairs 6 --seed 5 --output_path " +
                               (dir / "pairs").string());
   ASSERT_EQ(synth.status, 0) << synth.out;
@@ -158,7 +159,6 @@ TEST(BenchCommand, PerPairCsvCarriesTheDepthFlagAndItsSigmas) {
   } else {
     EXPECT_FALSE(summary.contains("depth_within_1.25x_oracle_observable"));
   }
-  fs::remove_all(dir);
 }
 
 TEST(PairCommand, BadPairDirectoriesGiveClearErrors) {
@@ -168,14 +168,16 @@ TEST(PairCommand, BadPairDirectoriesGiveClearErrors) {
     EXPECT_NE(r.out.find("/nonexistent/pair"), std::string::npos) << r.out;
   }
   {  // missing matches file
-    const std::string dir = CopyPair("missing");
+    const madsfm::testing::TempDir scratch("pair_cli_missing");
+    const std::string dir = CopyPair(scratch);
     fs::remove(fs::path(dir) / "lightglue_matches_1.npy");
     const CliRun r = RunCli("pair --pair_path " + dir);
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.out.find("lightglue_matches_1.npy"), std::string::npos) << r.out;
   }
   {  // wrong shape
-    const std::string dir = CopyPair("shape");
+    const madsfm::testing::TempDir scratch("pair_cli_shape");
+    const std::string dir = CopyPair(scratch);
     const std::vector<double> v(30, 1.0);
     madsfm::WriteNpy((fs::path(dir) / "lightglue_matches_0.npy").string(), {10, 3}, v.data());
     const CliRun r = RunCli("pair --pair_path " + dir);
@@ -183,7 +185,8 @@ TEST(PairCommand, BadPairDirectoriesGiveClearErrors) {
     EXPECT_NE(r.out.find("lightglue_matches_0.npy"), std::string::npos) << r.out;
   }
   {  // 0 matches
-    const std::string dir = CopyPair("empty");
+    const madsfm::testing::TempDir scratch("pair_cli_empty");
+    const std::string dir = CopyPair(scratch);
     const std::vector<double> v;
     madsfm::WriteNpy((fs::path(dir) / "lightglue_matches_0.npy").string(), {0, 2}, v.data());
     madsfm::WriteNpy((fs::path(dir) / "lightglue_matches_1.npy").string(), {0, 2}, v.data());
@@ -192,7 +195,8 @@ TEST(PairCommand, BadPairDirectoriesGiveClearErrors) {
     EXPECT_NE(r.out.find("0 matches"), std::string::npos) << r.out;
   }
   {  // NaN depth is not an error: those matches have no depth
-    const std::string dir = CopyPair("nan");
+    const madsfm::testing::TempDir scratch("pair_cli_nan");
+    const std::string dir = CopyPair(scratch);
     std::vector<double> d(480 * 720, std::nan(""));
     madsfm::WriteNpy((fs::path(dir) / "da-met_depth_0.npy").string(), {480, 720}, d.data());
     const CliRun r = RunCli("pair --pair_path " + dir);

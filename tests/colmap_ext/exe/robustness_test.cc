@@ -26,6 +26,7 @@
 #include "madsfm/synthetic/two_view_scene.h"
 #include "colmap_ext/synthetic/synthetic_project.h"
 #include "testing/colmap_database_builder.h"
+#include "testing/temp_dir.h"
 
 namespace madsfm {
 namespace {
@@ -114,6 +115,7 @@ std::string FileBytes(const std::string& path) {
 // pair<k>_b.png), one calibrated SIMPLE_PINHOLE camera per pair, 200 matches with 20% outliers, and depth sidecars
 // <name>.npy in depths/.
 struct Project {
+  std::shared_ptr<testing::TempDir> scratch;  // removed with the last copy of the project
   std::string dir, db, depths;
   std::vector<SyntheticPair> pairs;
   std::string Args() const { return "--database_path " + db + " --depth_path " + depths + " --num_threads 2"; }
@@ -124,9 +126,8 @@ struct Project {
 
 Project MakeProject(const std::string& name, int num_pairs) {
   Project p;
-  p.dir = (fs::temp_directory_path() / ("madsfm_robust_" + name)).string();
-  if (fs::exists(p.dir)) fs::permissions(p.dir, fs::perms::owner_all, fs::perm_options::add);
-  fs::remove_all(p.dir);
+  p.scratch = std::make_shared<testing::TempDir>("robust_" + name);
+  p.dir = p.scratch->Sub("project");
   colmap::SyntheticProjectOptions o;
   o.output_path = p.dir;
   o.preset = "indoor_shared_focal";
@@ -457,8 +458,8 @@ TEST(Robustness, MissingPairListNamesTheFile) {
 // `synth_project --colmap_version` writes that release's schema; an unknown release names the option and the known
 // ones and writes nothing.
 TEST(Robustness, SynthProjectColmapVersion) {
-  const std::string dir = (fs::temp_directory_path() / "madsfm_robust_synth_version").string();
-  fs::remove_all(dir);
+  const testing::TempDir scratch("robust_synth_version");
+  const std::string dir = scratch.Sub("project");
   CliRun r = RunCli("synth_project --output_path " + dir + " --num_pairs 2 --colmap_version 4.0");
   ASSERT_EQ(r.status, 0) << r.out;
   auto db = colmap::Database::Open(dir + "/database.db", true);
@@ -473,7 +474,6 @@ TEST(Robustness, SynthProjectColmapVersion) {
                               "main)"))
       << r.out;
   EXPECT_FALSE(fs::exists(dir + "/database.db"));
-  fs::remove_all(dir);
 }
 
 TEST(Robustness, CommandLineErrorsAreClearAndExit1) {

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "testing/temp_dir.h"
+
 namespace madsfm {
 namespace {
 
@@ -141,7 +143,8 @@ TEST(Png, RoundTripsAllChannelCountsAndContents) {
 }
 
 TEST(Png, WritesAFile) {
-  const std::string path = (std::filesystem::temp_directory_path() / "madsfm_png_test.png").string();
+  const testing::TempDir scratch("png_test");
+  const std::string path = scratch.Sub("test.png");
   std::vector<uint8_t> rgb(20 * 10 * 3);
   for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<uint8_t>(i * 7);
   WritePng(path, 20, 10, 3, rgb.data());
@@ -149,7 +152,6 @@ TEST(Png, WritesAFile) {
   const std::vector<uint8_t> png((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   EXPECT_EQ(png, EncodePng(20, 10, 3, rgb.data()));
   EXPECT_EQ(Decode(png, 20, 10, 3), rgb);
-  std::filesystem::remove(path);
 }
 
 TEST(Png, RejectsBadArguments) {

@@ -3,10 +3,8 @@
 #include "colmap_ext/model/model_comparison.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <Eigen/Geometry>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -19,31 +17,17 @@
 #include <vector>
 
 #include "colmap_ext/exe/model_compare_command.h"
+#include "testing/temp_dir.h"
 
 namespace madsfm::colmap {
 namespace {
 
 namespace fs = std::filesystem;
 
-class TempDir {
+// A scratch folder per test, removed afterwards.
+class TempDir : public testing::TempDir {
  public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("madsfm_model_comparison_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string Sub(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
+  TempDir() : testing::TempDir("model_comparison_test") {}
 };
 
 void WriteText(const std::string& path, const std::string& text) {
@@ -409,12 +393,12 @@ CommandResult RunCommand(std::vector<std::string> args) {
   args.insert(args.begin(), {"madsfm", "model_compare"});
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
-  testing::internal::CaptureStdout();
-  testing::internal::CaptureStderr();
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
   CommandResult r;
   r.code = RunModelCompare(static_cast<int>(argv.size()), argv.data());
-  r.out = testing::internal::GetCapturedStdout();
-  r.err = testing::internal::GetCapturedStderr();
+  r.out = ::testing::internal::GetCapturedStdout();
+  r.err = ::testing::internal::GetCapturedStderr();
   return r;
 }
 

@@ -4,11 +4,9 @@
 #include "colmap_ext/model/reconstruction.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -23,31 +21,17 @@
 #include <tuple>
 #include <vector>
 
+#include "testing/temp_dir.h"
+
 namespace madsfm::colmap {
 namespace {
 
 namespace fs = std::filesystem;
 
-class TempDir {
+// A scratch folder per test, removed afterwards.
+class TempDir : public testing::TempDir {
  public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    path_ = fs::temp_directory_path() /
-            ("madsfm_reconstruction_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string Sub(const std::string& name) const { return (path_ / name).string(); }
-  std::string path() const { return path_.string(); }
-
- private:
-  fs::path path_;
+  TempDir() : testing::TempDir("reconstruction_test") {}
 };
 
 std::string ReadFile(const std::string& path) {

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 
 #include "colmap_ext/database/database.h"
 #include "colmap_ext/pipeline/focal_estimator.h"
@@ -18,6 +19,7 @@
 #include "madsfm/synthetic/two_view_scene.h"
 #include "colmap_ext/synthetic/synthetic_project.h"
 #include "testing/colmap_database_builder.h"
+#include "testing/temp_dir.h"
 
 namespace madsfm {
 namespace {
@@ -28,6 +30,7 @@ namespace fs = std::filesystem;
 // SIMPLE_PINHOLE camera per pair (with `calibrated` the true focal and a prior, else COLMAP's 1.2 max(W, H) guess),
 // 300 matches with 30% outliers, and depth sidecars <name>.npy.
 struct Project {
+  std::shared_ptr<testing::TempDir> scratch;  // removed with the last copy of the project
   std::string dir, db, depths;
   std::vector<SyntheticPair> pairs;
 };
@@ -35,8 +38,8 @@ struct Project {
 Project MakeProject(const std::string& name, int num_pairs, bool calibrated,
                     colmap::ColmapRelease release = colmap::ColmapRelease::k3_8) {
   Project p;
-  p.dir = (fs::temp_directory_path() / ("madsfm_tve_" + name)).string();
-  fs::remove_all(p.dir);
+  p.scratch = std::make_shared<testing::TempDir>("tve_" + name);
+  p.dir = p.scratch->Sub("project");
   colmap::SyntheticProjectOptions o;
   o.output_path = p.dir;
   o.preset = "indoor_shared_focal";
@@ -210,7 +213,7 @@ TEST(TwoViewEstimator, ResumesAndIsDeterministicAcrossThreadCounts) {
   EXPECT_EQ(testing::DumpTable(a.db, "two_view_geometries"), testing::DumpTable(b.db, "two_view_geometries"));
   // The rows are identical but for the depth folder named in the options fingerprint.
   std::string rows_b = testing::DumpTable(b.db, "madsfm_two_view_geometries");
-  for (size_t at; (at = rows_b.find("det_b")) != std::string::npos;) rows_b.replace(at, 5, "det_a");
+  for (size_t at; (at = rows_b.find(b.dir)) != std::string::npos;) rows_b.replace(at, b.dir.size(), a.dir);
   EXPECT_EQ(testing::DumpTable(a.db, "madsfm_two_view_geometries"), rows_b);
   // A second run with the same options skips every pair and changes nothing.
   const std::string before = testing::DumpTable(a.db, "two_view_geometries");

@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <memory>
 
 #include "colmap_ext/database/database.h"
 #include "colmap_ext/pipeline/two_view_estimator.h"
 #include "colmap_ext/synthetic/synthetic_project.h"
 #include "testing/colmap_database_builder.h"
+#include "testing/temp_dir.h"
 
 namespace madsfm::colmap {
 namespace {
@@ -38,11 +40,8 @@ TEST(Fingerprinter, DeterministicHexAndSensitiveToContentAndSplitting) {
 class DatabaseFingerprintTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    // One folder per test: ctest runs them in parallel.
-    dir_ = (fs::temp_directory_path() /
-            ("madsfm_fingerprint_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name())))
-               .string();
-    fs::remove_all(dir_);
+    scratch_ = std::make_unique<testing::TempDir>("fingerprint_test");
+    dir_ = scratch_->Sub("project");
     SyntheticProjectOptions o;
     o.output_path = dir_;
     o.num_pairs = 3;
@@ -53,6 +52,7 @@ class DatabaseFingerprintTest : public ::testing::Test {
     fs::copy_file(project_.database_path, copy_);
     base_ = FingerprintOf(project_.database_path);
   }
+  std::unique_ptr<testing::TempDir> scratch_;
   std::string dir_, copy_, base_;
   SyntheticProject project_;
 };

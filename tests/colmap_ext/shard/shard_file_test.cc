@@ -13,6 +13,7 @@
 
 #include "testing/colmap_database_builder.h"
 #include "testing/error_of.h"
+#include "testing/temp_dir.h"
 
 namespace madsfm::colmap {
 namespace {
@@ -20,10 +21,10 @@ namespace {
 namespace fs = std::filesystem;
 using testing::ErrorOf;
 
+// A path in this process's scratch folder (removed at exit).
 std::string TempPath(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "madsfm_shard_file_test";
-  fs::create_directories(dir);
-  const std::string p = (dir / name).string();
+  static const testing::TempDir scratch("shard_file_test");
+  const std::string p = scratch.Sub(name);
   fs::remove(p);
   fs::remove(p + ".tmp");
   return p;

@@ -9,6 +9,7 @@
 
 #include "colmap_ext/database/database.h"
 #include "madsfm/io/pair_directory.h"
+#include "testing/temp_dir.h"
 
 namespace madsfm::colmap {
 namespace {
@@ -17,14 +18,9 @@ namespace fs = std::filesystem;
 
 const std::string kPairs = MADSFM_EXAMPLE_PAIRS_DIR;
 
-std::string FreshDir(const std::string& name) {
-  const std::string dir = (fs::temp_directory_path() / ("madsfm_pair_project_" + name)).string();
-  fs::remove_all(dir);
-  return dir;
-}
-
 TEST(PairProject, WritesCamerasImagesKeypointsAndMatchesOfThePair) {
-  const std::string out = FreshDir("write");
+  const testing::TempDir scratch("pair_project_write");
+  const std::string out = scratch.Sub("out");
   const PairProjectSummary s = WritePairProject(kPairs + "/2_2d3ds", out, /*known_focal=*/false);
   const PairData pair = ReadPairDirectory(kPairs + "/2_2d3ds");
   EXPECT_EQ(s.num_matches, static_cast<int>(pair.p0.size()));
@@ -44,7 +40,8 @@ TEST(PairProject, WritesCamerasImagesKeypointsAndMatchesOfThePair) {
 }
 
 TEST(PairProject, KnownFocalIsAPrior) {
-  const std::string out = FreshDir("known");
+  const testing::TempDir scratch("pair_project_known");
+  const std::string out = scratch.Sub("out");
   const PairProjectSummary s = WritePairProject(kPairs + "/1_eth3d", out, /*known_focal=*/true);
   const PairData pair = ReadPairDirectory(kPairs + "/1_eth3d");
   auto db = Database::Open(s.database_path, true);
@@ -55,7 +52,8 @@ TEST(PairProject, KnownFocalIsAPrior) {
 }
 
 TEST(PairProject, RefusesAnExistingDatabaseAndPairsWithoutDepth) {
-  const std::string out = FreshDir("refuse");
+  const testing::TempDir scratch("pair_project_refuse");
+  const std::string out = scratch.Sub("out");
   WritePairProject(kPairs + "/2_2d3ds", out, false);
   try {
     WritePairProject(kPairs + "/2_2d3ds", out, false);
@@ -64,7 +62,7 @@ TEST(PairProject, RefusesAnExistingDatabaseAndPairsWithoutDepth) {
     EXPECT_NE(std::string(e.what()).find("already exists"), std::string::npos) << e.what();
   }
   // 0_scannet names depth files it does not ship: the error names the file.
-  EXPECT_THROW(WritePairProject(kPairs + "/0_scannet", FreshDir("no_depth"), false), std::runtime_error);
+  EXPECT_THROW(WritePairProject(kPairs + "/0_scannet", scratch.Sub("no_depth"), false), std::runtime_error);
 }
 
 }  // namespace

@@ -1,10 +1,7 @@
 // Helpers shared by the io tests: a scratch directory, raw file writing, hand-made .npy bytes, error capture.
 #pragma once
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -14,31 +11,16 @@
 #include <string>
 #include <vector>
 
+#include "testing/temp_dir.h"
+
 namespace madsfm {
 namespace io_test {
 
-// A fresh directory under the system temp dir, removed with its contents on destruction.
-class TempDir {
+// A scratch folder, removed with its contents on destruction (File: a path inside it).
+class TempDir : public testing::TempDir {
  public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    path_ = std::filesystem::temp_directory_path() /
-            ("madsfm_io_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  std::string File(const std::string& name) const { return (path_ / name).string(); }
-  std::string path() const { return path_.string(); }
-
- private:
-  std::filesystem::path path_;
+  TempDir() : testing::TempDir("io_test") {}
+  std::string File(const std::string& name) const { return Sub(name); }
 };
 
 inline void WriteFile(const std::string& path, const std::string& bytes) {
