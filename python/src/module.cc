@@ -330,6 +330,7 @@ const std::vector<std::pair<const char*, ResultGetter>>& ResultFields() {
       {"sigma_shift0", [](R r) -> py::object { return py::float_(r.estimate.sigma_shift0); }},
       {"sigma_shift1", [](R r) -> py::object { return py::float_(r.estimate.sigma_shift1); }},
       {"shifts_dropped", [](R r) -> py::object { return py::bool_(r.estimate.shifts_dropped); }},
+      {"scale_reset", [](R r) -> py::object { return py::bool_(r.estimate.scale_reset); }},
       {"sigma_focal0", [](R r) -> py::object { return py::float_(r.estimate.sigma_focal0); }},
       {"sigma_focal1", [](R r) -> py::object { return py::float_(r.estimate.sigma_focal1); }},
       {"runtime_ms", [](R r) -> py::object { return py::float_(r.estimate.runtime_ms); }},
@@ -402,6 +403,7 @@ py::dict ResultState(const RelativePoseResult& r) {
   d["sigma_shift0"] = e.sigma_shift0;
   d["sigma_shift1"] = e.sigma_shift1;
   d["shifts_dropped"] = e.shifts_dropped;
+  d["scale_reset"] = e.scale_reset;
   d["sigma_focal0"] = e.sigma_focal0;
   d["sigma_focal1"] = e.sigma_focal1;
   d["runtime_ms"] = e.runtime_ms;
@@ -460,6 +462,7 @@ RelativePoseResult ResultFromState(const py::dict& d) {
     e.sigma_focal1 = get("sigma_focal1").cast<double>();
   }
   if (d.contains("shifts_dropped")) e.shifts_dropped = get("shifts_dropped").cast<bool>();
+  if (d.contains("scale_reset")) e.scale_reset = get("scale_reset").cast<bool>();
   e.runtime_ms = get("runtime_ms").cast<double>();
   return r;
 }
@@ -531,6 +534,7 @@ RelativePoseResult Estimate(const std::string& camera_mode, const std::string& m
     py::gil_scoped_release release;
     r.estimate = EstimateRelativePose(mode, p0, p1, d0, d1, cam0, cam1, options, max_image_dim);
   }
+  AppendEstimateNotes(r.estimate, &r.notes);  // as EvaluatePair does for `madsfm pair`
   return r;
 }
 

@@ -24,6 +24,7 @@ def test_example_pairs_have_observable_corrections_with_their_sigmas():
         d = r.to_dict()
         assert d["depth_observable"] is r.depth_observable
         assert d["sigma_scale"] == r.sigma_scale
+        assert d["shifts_dropped"] is r.shifts_dropped is False and d["scale_reset"] is r.scale_reset is False
 
 
 def test_point_fallback_is_not_observable():

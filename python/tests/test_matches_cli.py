@@ -32,6 +32,7 @@ def assert_equals_cli_json(result, j):
         assert getattr(result, name) == j[name], name
     if result.camera_mode != "calibrated":
         assert (result.sigma_focal0, result.sigma_focal1) == (j["sigma_focal0"], j["sigma_focal1"])
+    assert (result.shifts_dropped, result.scale_reset) == (j["shifts_dropped"], j["scale_reset"])
     assert (result.num_inliers_reproj0, result.num_inliers_reproj1, result.num_inliers_sampson) == (
         j["inliers"]["reproj_0to1"], j["inliers"]["reproj_1to0"], j["inliers"]["sampson"])
     # The masks agree with the counts.
@@ -130,6 +131,22 @@ def test_python_pair_prints_what_cli_prints(cli, name, args):
     assert err.replace("madsfm.pair:", "madsfm pair:") == cli_proc.stderr
     # Same layout: two-space indentation, sorted keys (the numbers themselves were compared as numbers above).
     assert [layout_of(line) for line in out.splitlines()] == [layout_of(line) for line in cli_proc.stdout.splitlines()]
+
+
+def test_python_pair_prints_what_cli_prints_when_the_shifts_are_dropped(cli, tmp_path):
+    """A low-parallax pair whose shifts the priors do not determine: both print the scale-only result and its note."""
+    subprocess.run([cli, "synth", "--preset", "hard_low_parallax_calibrated", "--num_pairs", "1", "--seed", "5",
+                    "--output_path", str(tmp_path)], check=True, capture_output=True, timeout=300)
+    pair_dir = str(tmp_path / "hard_low_parallax_calibrated_0000")
+    code, out, err = run_python_pair(pair_dir, "--camera_mode", "calibrated")
+    cli_proc = subprocess.run([cli, "pair", "--pair_path", pair_dir, "--camera_mode", "calibrated"],
+                              capture_output=True, text=True, timeout=300)
+    assert code == cli_proc.returncode == 0, err
+    j = json.loads(out)
+    assert j["shifts_dropped"] is True and j["scale_reset"] is False
+    assert (j["shift0"], j["shift1"]) == (0.0, 0.0)
+    assert any("estimated again without shifts" in note for note in j["notes"]), j["notes"]
+    assert without_runtime(j) == without_runtime(json.loads(cli_proc.stdout))
 
 
 def layout_of(line):

@@ -106,6 +106,15 @@ std::optional<DepthCorrectionError> MeasureDepthCorrection(const AffineDepthPose
   return out;
 }
 
+void AppendEstimateNotes(const HybridEstimate& estimate, std::vector<std::string>* notes) {
+  if (estimate.shifts_dropped) {
+    notes->push_back("the priors do not determine the shifts: estimated again without shifts (scale only)");
+  }
+  if (estimate.scale_reset) {
+    notes->push_back("the fitted scale drifted without bound: replaced by the ratio of the views' median priors");
+  }
+}
+
 PairResult EvaluatePair(const PairData& pair, CameraMode mode, const std::string& method,
                         const HybridEstimatorOptions& base_options) {
   PairResult r;
@@ -163,10 +172,9 @@ PairResult EvaluatePair(const PairData& pair, CameraMode mode, const std::string
     r.num_inliers_sampson = est.num_inliers_sampson;
     r.depth_observable = est.depth_observable;
     r.shifts_dropped = est.shifts_dropped;
+    r.scale_reset = est.scale_reset;
     r.score = est.score;
-    if (est.shifts_dropped) {
-      r.notes.push_back("the priors do not determine the shifts: estimated again without shifts (scale only)");
-    }
+    AppendEstimateNotes(est, &r.notes);
     r.sigma_scale = est.sigma_scale;
     r.sigma_shift0 = est.sigma_shift0;
     r.sigma_shift1 = est.sigma_shift1;

@@ -37,6 +37,7 @@ struct PairResult {
   double sigma_shift0 = std::numeric_limits<double>::quiet_NaN();
   double sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
   bool shifts_dropped = false;  // HybridEstimate::shifts_dropped (also a note)
+  bool scale_reset = false;     // HybridEstimate::scale_reset (also a note)
   double score = std::numeric_limits<double>::quiet_NaN();  // HybridEstimate::score
   // Focal modes: relative standard deviations of the focal lengths (HybridEstimate::sigma_focal0/1).
   double sigma_focal0 = std::numeric_limits<double>::quiet_NaN();
@@ -71,6 +72,10 @@ std::optional<DepthCorrectionError> MeasureDepthCorrection(const AffineDepthPose
 
 // Samples the depth maps at the matches (NaN where invalid); returns the per-match priors.
 void SamplePairDepths(const PairData& pair, std::vector<double>* d0, std::vector<double>* d1);
+
+// The notes an estimate adds to `notes` (PairResult::notes, the Python result's notes): the scale-only fallback taken
+// (shifts_dropped), a scale reset.
+void AppendEstimateNotes(const HybridEstimate& estimate, std::vector<std::string>* notes);
 
 // Runs `method` on the pair. In the focal modes only the principal points of K0 / K1 are used.
 PairResult EvaluatePair(const PairData& pair, CameraMode mode, const std::string& method,

@@ -64,6 +64,9 @@ TEST(PairCommand, PrintsTheEstimateAndItsErrorsAsJson) {
     within = within && j[key].get<double>() <= 0.1;
   }
   EXPECT_EQ(j["depth_observable"].get<bool>(), within);
+  // Determined corrections: neither replaced by the scale-only search nor reset.
+  EXPECT_FALSE(j["shifts_dropped"].get<bool>());
+  EXPECT_FALSE(j["scale_reset"].get<bool>());
 }
 
 TEST(PairCommand, PointMethodReportsNoDepthCorrections) {
@@ -108,7 +111,7 @@ TEST(BenchCommand, PerPairCsvCarriesTheDepthFlagAndItsSigmas) {
   std::map<std::string, size_t> col;
   for (size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
   for (const char* name : {"depth_observable", "sigma_scale", "sigma_shift0", "sigma_shift1", "sigma_focal0",
-                           "depth_err", "depth_err_oracle", "shifts_dropped"}) {
+                           "depth_err", "depth_err_oracle", "shifts_dropped", "scale_reset"}) {
     ASSERT_TRUE(col.count(name)) << name;
   }
   int hybrid_measured = 0, hybrid_observable = 0, observable_good = 0, points_rows = 0;
@@ -127,12 +130,17 @@ TEST(BenchCommand, PerPairCsvCarriesTheDepthFlagAndItsSigmas) {
     }
     ASSERT_EQ(method, "hybrid");
     ASSERT_TRUE(f[col["shifts_dropped"]] == "0" || f[col["shifts_dropped"]] == "1") << line;
+    ASSERT_TRUE(f[col["scale_reset"]] == "0" || f[col["scale_reset"]] == "1") << line;
     if (f[col["shifts_dropped"]] == "1") {
       // Undetermined shifts, replaced by the scale-only search's result: shifts 0, not estimated, not observable.
       EXPECT_FALSE(observable) << line;
       EXPECT_EQ(std::stod(f[col["shift0"]]), 0.0) << line;
       EXPECT_EQ(std::stod(f[col["shift1"]]), 0.0) << line;
       EXPECT_TRUE(f[col["sigma_shift0"]].empty() && f[col["sigma_shift1"]].empty()) << line;
+    } else if (f[col["scale_reset"]] == "1") {
+      // A scale that drifted without bound: replaced by the priors' ratio, not observable, no scale sigma.
+      EXPECT_FALSE(observable) << line;
+      EXPECT_TRUE(f[col["sigma_scale"]].empty()) << line;
     } else {
       bool within = true;
       for (const char* name : {"sigma_scale", "sigma_shift0", "sigma_shift1"}) {
