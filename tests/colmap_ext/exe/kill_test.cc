@@ -1,10 +1,10 @@
 // Crash safety of `madsfm two_view_estimator`: a run on a database of 300 synthetic pairs (write transactions of 16
 // pairs, in a forked child running RunTwoViewEstimatorImpl) is SIGKILLed at seeded random moments spread over the
-// run (anchored to its progress: after a random batch, within a random part of the next). After every kill the
-// database must be healthy (integrity check "ok"), hold whole batches only (the done pairs are a prefix of the pair
-// order whose length is a multiple of the batch size, each with its final rows), keep COLMAP's original rows of
-// every other pair, and a rerun of the CLI binary must end with tables byte-identical to an uninterrupted reference
-// run of the CLI. Shard tasks (CLI with --shard_path --batch_size 16) are killed too: their shard files must hold
+// pairs (anchored to its progress: after a random batch, within a random part of the next), restarted on the same
+// database and killed again, five times. After every kill the database must be healthy (integrity check "ok"), hold
+// whole batches only (the done pairs are a prefix of the pair order whose length is a multiple of the batch size,
+// each with its final rows), keep COLMAP's original rows of every other pair, and a last rerun of the CLI binary
+// must end with tables byte-identical to an uninterrupted reference run of the CLI. Shard tasks (CLI with --shard_path --batch_size 16) are killed too: their shard files must hold
 // whole batches, resume, and merge to the reference tables.
 #include <fcntl.h>
 #include <signal.h>
@@ -153,7 +153,7 @@ pid_t StartCli(const std::string& db, const std::vector<std::string>& extra_args
 // RunTwoViewEstimatorImpl directly. The test process is single-threaded and holds no SQLite connection when it forks.
 // Returns the child's pid.
 // notify_fd >= 0: the child writes one byte to it after every batch it has written (on_batch_written).
-pid_t StartForkedEstimator(const std::string& db, int notify_fd = -1) {
+pid_t StartForkedEstimator(const std::string& db, int notify_fd) {
   TwoViewEstimatorOptions o;
   o.database_path = db;
   o.depth_path = Project().depths;
@@ -192,11 +192,10 @@ int WaitFor(pid_t pid) {
   return status;
 }
 
-// Runs the estimator (CLI, or the forked batch-16 run) to completion; returns the wall time in seconds, asserting
-// exit code 0.
-double RunToCompletion(const std::string& db, bool cli) {
+// Runs the CLI estimator to completion; returns the wall time in seconds, asserting exit code 0.
+double RunCliToCompletion(const std::string& db) {
   const auto t0 = Clock::now();
-  const pid_t pid = cli ? StartCli(db) : StartForkedEstimator(db);
+  const pid_t pid = StartCli(db);
   if (pid < 0) return 0;
   const int status = WaitFor(pid);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status << ", see " << db << ".log";
@@ -297,7 +296,7 @@ std::string Find(const std::map<int64_t, std::string>& rows, int64_t key) {
 // it, and merging both shards gives tables byte-identical to the single-process CLI run.
 TEST(TwoViewEstimatorKill, KilledShardTaskResumesAndTheMergeEqualsTheReferenceRun) {
   const std::string ref = CopyDatabase("shard_reference");
-  const double ref_seconds = RunToCompletion(ref, /*cli=*/true);
+  const double ref_seconds = RunCliToCompletion(ref);
   const std::string db = CopyDatabase("sharded");
   const std::string before = testing::DumpTable(db, "two_view_geometries");
   std::vector<std::string> shards;
@@ -368,7 +367,7 @@ TEST(TwoViewEstimatorKill, KilledRunsLeaveWholeBatchesAndResumeToTheReferenceRes
 
   // Uninterrupted reference run of the CLI.
   const std::string ref = CopyDatabase("reference");
-  const double ref_seconds = RunToCompletion(ref, /*cli=*/true);
+  const double ref_seconds = RunCliToCompletion(ref);
   ASSERT_EQ(testing::IntegrityCheck(ref), "ok");
   const std::map<int64_t, std::string> ref_geometries = RowsByPair(ref, "two_view_geometries");
   const std::map<int64_t, std::string> ref_madsfm = RowsByPair(ref, "madsfm_two_view_geometries");
@@ -383,29 +382,24 @@ TEST(TwoViewEstimatorKill, KilledRunsLeaveWholeBatchesAndResumeToTheReferenceRes
   EXPECT_EQ(FirstDifference(ref_dump_backup, original_tvg_dump), "");
   std::printf("reference CLI run: %d pairs (%d failed, COLMAP's row kept) in %.2f s\n", kNumPairs, ref_failed,
               ref_seconds);
-  // The uninterrupted run in batches of 16 (the runs that get killed) gives the same tables; its wall time
-  // spreads the kill moments.
-  const std::string batched = CopyDatabase("batched");
-  const double batched_seconds = RunToCompletion(batched, /*cli=*/false);
-  EXPECT_EQ(FirstDifference(testing::DumpTable(batched, "two_view_geometries"), ref_dump_tvg), "");
-  EXPECT_EQ(FirstDifference(testing::DumpTable(batched, "matches"), ref_dump_matches), "");
-  EXPECT_EQ(FirstDifference(testing::DumpTable(batched, "madsfm_two_view_geometries"), ref_dump_madsfm), "");
-  std::printf("uninterrupted run in batches of %d: %.2f s\n", kBatchSize, batched_seconds);
 
-  // Kill moments, anchored to the run's progress rather than to a wall time (the machine's load changes between
-  // runs): kill k waits until the child reports batch b_k written, b_k drawn uniformly from the k-th fifth of the
-  // batches before the last one, then a uniformly random part of one batch's time (measured on this run so far),
-  // so the kill lands anywhere in the next batch's estimation or write transaction. Kill 0 may land before the
-  // first batch is written (b_0 = 0: a random part of the first batch's expected time).
+  // One database, run in batches of 16 and killed five times, each run resuming where the last kill left it (so the
+  // whole test costs about two runs, which matters under the sanitizers). Kill moments are anchored to the
+  // database's progress rather than to a wall time (the machine's load changes): kill k waits until batch b_k of the
+  // pair order is written, b_k drawn uniformly from the k-th fifth of the batches before the last one, then a
+  // uniformly random part of one batch's time (measured on this run so far), so the kill lands anywhere in the next
+  // batch's estimation or write transaction, or in the start-up of the resumed run. Kill 0 may land before the first
+  // batch is written (b_0 = 0: a random part of the first batch's expected time).
   const int num_batches = (kNumPairs + kBatchSize - 1) / kBatchSize;
   std::mt19937 rng(20261123);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  std::string last_killed_db;
+  const std::string db = CopyDatabase("killed");
   int num_killed_mid_run = 0, num_partial = 0;
+  size_t last_done = 0;
   for (int k = 0; k < kNumKills; ++k) {
     const int target = k == 0 ? 0 : static_cast<int>((k + uniform(rng)) * (num_batches - 1) / kNumKills);
     const double within = uniform(rng);
-    const std::string db = CopyDatabase("kill" + std::to_string(k));
+    const int batches_before = static_cast<int>(last_done / kBatchSize);
     int fds[2];
     ASSERT_EQ(::pipe(fds), 0) << std::strerror(errno);
     const auto t_start = Clock::now();
@@ -413,13 +407,13 @@ TEST(TwoViewEstimatorKill, KilledRunsLeaveWholeBatchesAndResumeToTheReferenceRes
     ::close(fds[1]);
     ASSERT_GT(pid, 0);
     int reported = 0;
-    for (char byte; reported < target;) {
+    for (char byte; batches_before + reported < target;) {
       const ssize_t n = ::read(fds[0], &byte, 1);
       if (n == 1) ++reported;
       else if (n == 0 || errno != EINTR) break;  // the child exited (or the pipe failed): no more progress
     }
     const double batch_seconds = reported > 0 ? std::chrono::duration<double>(Clock::now() - t_start).count() / reported
-                                              : batched_seconds / num_batches;
+                                              : ref_seconds / num_batches;
     std::this_thread::sleep_for(std::chrono::duration<double>(within * batch_seconds));
     ::kill(pid, SIGKILL);
     const double kill_seconds = std::chrono::duration<double>(Clock::now() - t_start).count();
@@ -439,9 +433,13 @@ TEST(TwoViewEstimatorKill, KilledRunsLeaveWholeBatchesAndResumeToTheReferenceRes
     const std::map<int64_t, std::pair<int, int>> done = MadsfmStatus(db);
     const std::map<int64_t, int> geometry_counts = GeometryRowCounts(db);
     num_partial += !done.empty() && done.size() < static_cast<size_t>(kNumPairs);
-    std::printf("kill %d after batch %d of %d + %.0f%% of a batch (%.2f s): %s, hot journal %s, %zu/%d pairs done\n",
-                k, target, num_batches, 100 * within, kill_seconds, killed ? "SIGKILLed" : "had already exited",
-                hot_journal ? "yes" : "no", done.size(), kNumPairs);
+    std::printf("kill %d after batch %d of %d + %.0f%% of a batch (%.2f s after the restart at %zu pairs done): %s, "
+                "hot journal %s, %zu/%d pairs done\n",
+                k, target, num_batches, 100 * within, kill_seconds, last_done,
+                killed ? "SIGKILLed" : "had already exited", hot_journal ? "yes" : "no", done.size(), kNumPairs);
+    // What a run committed stays: no kill takes batches away.
+    EXPECT_GE(done.size(), last_done);
+    last_done = done.size();
 
     // Whole batches only: the done pairs are the first k * batch_size pairs of the estimator's order.
     EXPECT_TRUE(done.size() % kBatchSize == 0 || done.size() == static_cast<size_t>(kNumPairs)) << done.size();
@@ -484,27 +482,25 @@ TEST(TwoViewEstimatorKill, KilledRunsLeaveWholeBatchesAndResumeToTheReferenceRes
     if (backup != "no table madsfm_backup_two_view_geometries") {
       EXPECT_EQ(FirstDifference(backup, original_tvg_dump), "");
     }
-
-    // Resume with the CLI to completion: byte-identical to the reference run.
-    RunToCompletion(db, /*cli=*/true);
-    EXPECT_EQ(testing::IntegrityCheck(db), "ok");
-    EXPECT_EQ(FirstDifference(testing::DumpTable(db, "two_view_geometries"), ref_dump_tvg), "");
-    EXPECT_EQ(FirstDifference(testing::DumpTable(db, "matches"), ref_dump_matches), "");
-    EXPECT_EQ(FirstDifference(testing::DumpTable(db, "madsfm_two_view_geometries"), ref_dump_madsfm), "");
-    EXPECT_EQ(FirstDifference(testing::DumpTable(db, "madsfm_backup_two_view_geometries"), ref_dump_backup), "");
-    last_killed_db = db;
   }
   // Kills hit running processes (anchored to progress, each lands before the last batch unless a batch takes far
   // longer than the ones before it), and some mid-way through the batches.
   EXPECT_GE(num_killed_mid_run, kNumKills - 1);
   EXPECT_GE(num_partial, 1);
 
+  // Resume with the CLI (its own batch size) to completion: byte-identical to the reference run.
+  RunCliToCompletion(db);
+  EXPECT_EQ(testing::IntegrityCheck(db), "ok");
+  EXPECT_EQ(FirstDifference(testing::DumpTable(db, "two_view_geometries"), ref_dump_tvg), "");
+  EXPECT_EQ(FirstDifference(testing::DumpTable(db, "matches"), ref_dump_matches), "");
+  EXPECT_EQ(FirstDifference(testing::DumpTable(db, "madsfm_two_view_geometries"), ref_dump_madsfm), "");
+  EXPECT_EQ(FirstDifference(testing::DumpTable(db, "madsfm_backup_two_view_geometries"), ref_dump_backup), "");
+
   // `madsfm restore` after a killed-and-resumed run gives COLMAP's original rows back.
-  const std::string restore_cmd =
-      std::string(MADSFM_CLI_PATH) + " restore --database_path " + last_killed_db + " > /dev/null";
+  const std::string restore_cmd = std::string(MADSFM_CLI_PATH) + " restore --database_path " + db + " > /dev/null";
   ASSERT_EQ(std::system(restore_cmd.c_str()), 0);
-  EXPECT_EQ(FirstDifference(testing::DumpTable(last_killed_db, "two_view_geometries"), original_tvg_dump), "");
-  EXPECT_EQ(testing::IntegrityCheck(last_killed_db), "ok");
+  EXPECT_EQ(FirstDifference(testing::DumpTable(db, "two_view_geometries"), original_tvg_dump), "");
+  EXPECT_EQ(testing::IntegrityCheck(db), "ok");
   std::printf("kill test: %d/%d kills mid-run, %d with some batches written, total %.1f s\n", num_killed_mid_run,
               kNumKills, num_partial,
               std::chrono::duration<double>(Clock::now() - t_test).count());
