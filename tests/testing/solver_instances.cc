@@ -36,7 +36,9 @@ SolverInstance MakeSolverInstance(std::mt19937& rng, const SolverInstanceOptions
     const Eigen::Vector3d t = -R * c1;
 
     std::vector<Eigen::Vector3d> X0, X1;
-    for (int tries = 0; tries < 200 && static_cast<int>(X0.size()) < opt.num_points; ++tries) {
+    // At most 200 draws (4 per point beyond 50 points): a camera pair that sees too few points is drawn again.
+    const int max_tries = std::max(200, 4 * opt.num_points);
+    for (int tries = 0; tries < max_tries && static_cast<int>(X0.size()) < opt.num_points; ++tries) {
       const Eigen::Vector3d X(Uniform(rng, -0.6, 0.6), Uniform(rng, -0.45, 0.45), 1.0);
       const Eigen::Vector3d P0 = X * Uniform(rng, 0.5 * m, 2.0 * m);
       const Eigen::Vector3d P1 = R * P0 + t;

@@ -113,13 +113,6 @@ bool ForEachResidual(const RelposeProblem& p, const std::vector<int>& I0, const 
   if (!Is.empty()) {
     const Eigen::Matrix3d tx = CrossProductMatrix(m.t);
     const Eigen::Matrix3d E = tx * R;
-    // dE/dw_j = [t]x [e_j]x R, dE/dt_j = [e_j]x R.
-    Eigen::Matrix3d dE[6];
-    for (int j = 0; j < 3; ++j) {
-      const Eigen::Matrix3d ejx = CrossProductMatrix(Eigen::Vector3d::Unit(j));
-      dE[j] = tx * ejx * R;
-      dE[3 + j] = ejx * R;
-    }
     const double k = std::sqrt(sampson_weight * p.pixel_scale0 * p.pixel_scale1);
     const double if0 = 1.0 / f0, if1 = 1.0 / f1;
     for (int i : Is) {
@@ -136,14 +129,18 @@ bool ForEachResidual(const RelposeProblem& p, const std::vector<int>& I0, const 
       if constexpr (kWithJacobian) {
         row0.setZero();
         const double g = k / sD, h = -k * c / (2.0 * D * sD);  // de = g dc + h dD
-        for (int j = 0; j < 6; ++j) {
-          const Eigen::Vector3d da = dE[j] * y0;
-          const Eigen::Vector3d db = dE[j].transpose() * y1;
-          const double dc = y1.dot(da);
-          const double dD = 2.0 * (a.x() * da.x() + a.y() * da.y()) * if1 * if1 +
-                            2.0 * (b.x() * db.x() + b.y() * db.y()) * if0 * if0;
-          row0(j) = g * dc + h * dD;
-        }
+        // Rotation (R <- exp([w]x) R) and translation, in closed form with q = R y0, s = y1 x t,
+        // alpha = 2/f1^2 (a_x, a_y, 0), gamma = R 2/f0^2 (b_x, b_y, 0):
+        //   dc/dw = q x s,                      dc/dt = q x y1,
+        //   dD/dw = q x (alpha x t) + gamma x s, dD/dt = q x alpha + gamma x y1.
+        const Eigen::Vector3d q = R * y0;
+        const Eigen::Vector3d s = y1.cross(m.t);
+        const Eigen::Vector3d alpha(2.0 * a.x() * if1 * if1, 2.0 * a.y() * if1 * if1, 0.0);
+        const Eigen::Vector3d gamma = R * Eigen::Vector3d(2.0 * b.x() * if0 * if0, 2.0 * b.y() * if0 * if0, 0.0);
+        const Eigen::Vector3d Jw = g * q.cross(s) + h * (q.cross(alpha.cross(m.t)) + gamma.cross(s));
+        const Eigen::Vector3d Jt = g * q.cross(y1) + h * (q.cross(alpha) + gamma.cross(y1));
+        row0.segment<3>(kRot) = Jw.transpose();
+        row0.segment<3>(kTrans) = Jt.transpose();
         // Focal lengths: dy0/df0 = (-x0/f0^2, -y0/f0^2, 0), likewise view 1.
         const Eigen::Vector3d dy0(-y0.x() * if0, -y0.y() * if0, 0.0);
         const Eigen::Vector3d dy1(-y1.x() * if1, -y1.y() * if1, 0.0);
@@ -232,6 +229,16 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
   }
   int num_free = 0;
   for (bool b : free_param) num_free += b;
+  // Columns of J that enter the normal equations: the free parameters, and all three translation columns when the
+  // basis B mixes them. With a shared focal length, f1's column is added to f0's (one parameter).
+  int accumulated[kRelposeNumParams];
+  int num_accumulated = 0, shared_f1_slot = -1;
+  for (int j = 0; j < kRelposeNumParams; ++j) {
+    if (free_param[j] || (!options.refine_pose && j >= kTrans && j < kTrans + 3)) {
+      if (shared && j == kF0) shared_f1_slot = num_accumulated;
+      accumulated[num_accumulated++] = j;
+    }
+  }
   const int num_residuals = 2 * static_cast<int>(I0.size() + I1.size()) + static_cast<int>(Is.size());
   if (num_residuals < num_free) return false;
 
@@ -254,30 +261,28 @@ bool RefineRelpose(const RelposeProblem& p, const std::vector<int>& I0, const st
   double lambda = 1e-4;
   int it = 0;
   for (; it < options.max_iterations; ++it) {
-    // Normal equations, accumulated in blocks of rows (one matrix product per block, not per row).
-    Matrix11d JtJ = Matrix11d::Zero();
-    Vector11d Jtr = Vector11d::Zero();
-    constexpr int kBlock = 64;
-    Eigen::Matrix<double, kBlock, kRelposeNumParams> Jb;
-    Eigen::Matrix<double, kBlock, 1> rb;
-    int filled = 0;
-    auto flush = [&]() {
-      // Lower triangle only (a symmetric rank-k update, half the products of a full J^T J).
-      JtJ.selfadjointView<Eigen::Lower>().rankUpdate(Jb.topRows(filled).transpose());
-      Jtr.noalias() += Jb.topRows(filled).transpose() * rb.head(filled);
-      filled = 0;
-    };
+    // Normal equations over the accumulated columns only, lower triangle, one row at a time (for these 11-column
+    // rows this beats Eigen's blocked matrix products, which are tuned for large matrices).
+    double lower[kRelposeNumParams][kRelposeNumParams] = {};
+    double gradient[kRelposeNumParams] = {};
     ForEachResidual<true>(p, I0, I1, Is, options.sampson_weight, current, [&](double r, const Row11d& row) {
       const double sw = robust ? 1.0 / std::sqrt(1.0 + r * r / s2) : 1.0;  // sqrt of the IRLS weight
-      Jb.row(filled) = sw * row;
-      if (shared) {
-        Jb(filled, kF0) += Jb(filled, kF1);
-        Jb(filled, kF1) = 0.0;
+      double c[kRelposeNumParams];
+      for (int a = 0; a < num_accumulated; ++a) c[a] = sw * row(accumulated[a]);
+      if (shared_f1_slot >= 0) c[shared_f1_slot] += sw * row(kF1);
+      const double wr = sw * r;
+      for (int a = 0; a < num_accumulated; ++a) {
+        const double ca = c[a];
+        for (int b = 0; b <= a; ++b) lower[a][b] += ca * c[b];
+        gradient[a] += ca * wr;
       }
-      rb(filled) = sw * r;
-      if (++filled == kBlock) flush();
     }, options.reprojection_weight);
-    if (filled > 0) flush();
+    Matrix11d JtJ = Matrix11d::Zero();
+    Vector11d Jtr = Vector11d::Zero();
+    for (int a = 0; a < num_accumulated; ++a) {
+      for (int b = 0; b <= a; ++b) JtJ(accumulated[a], accumulated[b]) = lower[a][b];
+      Jtr(accumulated[a]) = gradient[a];
+    }
     JtJ.triangularView<Eigen::StrictlyUpper>() = JtJ.transpose();
     if (!options.refine_pose) {
       JtJ = (B.transpose() * JtJ * B).eval();
