@@ -661,6 +661,15 @@ HybridEstimate Engine::Run() {
   return result;
 }
 
+// Adds the search work of `other` (iterations, local optimisations, minimal samples) to `total`: a result that
+// took several searches reports the work of all of them.
+void AddSearchWork(const HybridEstimate& other, HybridEstimate* total) {
+  total->iterations += other.iterations;
+  total->num_lo += other.num_lo;
+  total->num_depth_samples += other.num_depth_samples;
+  total->num_point_samples += other.num_point_samples;
+}
+
 }  // namespace
 
 HybridEstimate EstimateHybridRelpose(const RelposeProblem& problem, const HybridEstimatorOptions& options) {
@@ -681,14 +690,9 @@ HybridEstimate EstimateHybridRelpose(const RelposeProblem& problem, const Hybrid
     HybridEstimatorOptions again = options;
     again.seed = options.seed ^ 0x9E3779B97F4A7C15ull;
     Engine second(problem, again);
-    const HybridEstimate first = result;
-    const HybridEstimate retry = second.Run();
-    if (retry.success && retry.score < first.score) result = retry;
-    // The work of both searches.
-    result.iterations = first.iterations + retry.iterations;
-    result.num_lo = first.num_lo + retry.num_lo;
-    result.num_depth_samples = first.num_depth_samples + retry.num_depth_samples;
-    result.num_point_samples = first.num_point_samples + retry.num_point_samples;
+    HybridEstimate retry = second.Run();
+    if (retry.success && retry.score < result.score) std::swap(result, retry);
+    AddSearchWork(retry, &result);  // `retry` now holds the search that was not kept
   }
   const bool check = options.epipolar_check_ratio > 0 && problem.mode == CameraMode::kCalibrated &&
                      options.solvers == SolverChoice::kHybrid && options.scoring == ScoringMode::kHybrid &&
@@ -720,9 +724,7 @@ HybridEstimate EstimateHybridRelpose(const RelposeProblem& problem, const Hybrid
       result.num_inliers_sampson = static_cast<int>(in.sampson.size());
       result.epipolar_check_switched = true;
     }
-    result.iterations += competitor.iterations;
-    result.num_point_samples += competitor.num_point_samples;
-    result.num_lo += competitor.num_lo;
+    AddSearchWork(competitor, &result);
   }
   const bool undetermined_shifts = options.scale_only_fallback && options.estimate_shift &&
                                    options.solvers == SolverChoice::kHybrid &&
@@ -733,24 +735,16 @@ HybridEstimate EstimateHybridRelpose(const RelposeProblem& problem, const Hybrid
     HybridEstimatorOptions scale_only = options;
     scale_only.estimate_shift = false;
     HybridEstimate fallback = EstimateHybridRelpose(problem, scale_only);
-    // The work of both searches.
-    const int iterations = result.iterations + fallback.iterations;
-    const int num_lo = result.num_lo + fallback.num_lo;
-    const int num_depth_samples = result.num_depth_samples + fallback.num_depth_samples;
-    const int num_point_samples = result.num_point_samples + fallback.num_point_samples;
     // The simpler model replaces the result only when it explains the data at least as well (MSAC score): where
     // the priors really need shifts (affine monocular depth with a poorly determined focal length) it scores worse.
     if (fallback.success && fallback.score <= result.score) {
-      result = std::move(fallback);
+      std::swap(result, fallback);
       result.shifts_dropped = true;
       // The shifts were assumed 0, not measured: the corrections stay unobservable (seed_model must not build
       // low-parallax seeds from them).
       result.depth_observable = false;
     }
-    result.iterations = iterations;
-    result.num_lo = num_lo;
-    result.num_depth_samples = num_depth_samples;
-    result.num_point_samples = num_point_samples;
+    AddSearchWork(fallback, &result);  // `fallback` now holds the search that was not kept
   }
   result.runtime_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return result;
