@@ -65,18 +65,27 @@ def run_cli_pair(cli_path, pair_dir, *args):
     return proc.returncode, json.loads(proc.stdout) if proc.stdout.strip() else None, proc.stderr
 
 
+def _times_transpose(X, M):
+    """X @ M.T for N x 3 X and 3 x 3 M, as separate elementwise products and sums (no BLAS, no FMA)."""
+    return np.stack([(X[:, 0] * M[r, 0] + X[:, 1] * M[r, 1]) + X[:, 2] * M[r, 2] for r in range(3)], axis=1)
+
+
 def small_scene(n=30, seed=0, noise=0.0, half_width=1.0):
     """A small exact two-view scene (pixels, depths, K, R, t) for fast repeated calls; points in
     [-half_width, half_width]^2 x [3, 6] in camera 0."""
     rng = np.random.default_rng(seed)
     X0 = rng.uniform([-half_width, -half_width, 3.0], [half_width, half_width, 6.0], (n, 3))
-    angle = 0.1
-    R = np.array([[np.cos(angle), 0.0, np.sin(angle)], [0.0, 1.0, 0.0], [-np.sin(angle), 0.0, np.cos(angle)]])
+    # The same bits on every CPU: numpy's vectorised cos / sin and its BLAS matrix products (FMA kernels chosen by
+    # CPU) differ from one x86-64 machine to the next in the last bits, and an exact scene sits on the knife edge of
+    # comparisons between round-off-sized scores. So cos(0.1) / sin(0.1) are the correctly rounded constants, and
+    # the products are written out as separate multiplications and additions.
+    c, s = float.fromhex("0x1.fd712f9a817c1p-1"), float.fromhex("0x1.98eaecb8bcb2cp-4")  # cos / sin of 0.1 rad
+    R = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
     t = np.array([0.5, 0.05, 0.1])
-    X1 = X0 @ R.T + t
+    X1 = _times_transpose(X0, R) + t
     K = np.array([[500.0, 0.0, 320.0], [0.0, 500.0, 240.0], [0.0, 0.0, 1.0]])
-    k0 = X0 @ K.T
-    k1 = X1 @ K.T
+    k0 = _times_transpose(X0, K)
+    k1 = _times_transpose(X1, K)
     kpts0 = k0[:, :2] / k0[:, 2:] + noise * rng.standard_normal((n, 2))
     kpts1 = k1[:, :2] / k1[:, 2:] + noise * rng.standard_normal((n, 2))
     return {"kpts0": kpts0, "kpts1": kpts1, "depth0": X0[:, 2].copy(), "depth1": X1[:, 2] / 2.0, "K": K, "R": R,
