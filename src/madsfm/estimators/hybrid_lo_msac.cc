@@ -92,6 +92,8 @@ class Engine {
   double FinalCauchyScale(const AffineDepthPose& model) const;
   void RobustPointRefinement(AffineDepthPose* model, double* score);
   bool KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineDepthPose* model, double* score);
+  bool ShiftsInBound(const AffineDepthPose& model) const;
+  bool FitDepthInBound(const std::vector<int>& indices, AffineDepthPose* model) const;
 
   const RelposeProblem& p_;
   const HybridEstimatorOptions& o_;
@@ -118,6 +120,30 @@ RelposeRefinerOptions Engine::RefinerOptions(int max_iterations) const {
 
 bool Engine::Refine(AffineDepthPose* model, const InlierSets& in, int max_iterations) {
   return RefineRelpose(p_, in.reproj0, in.reproj1, in.sampson, RefinerOptions(max_iterations), model);
+}
+
+// Whether |shift0| and |shift1| are within max_shift_ratio times the views' median priors (always true when the
+// bound is 0). The refiner keeps its steps within the bound; every other source of depth parameters (minimal
+// solvers, the depth fits of point models and of the Sampson-only output) is checked with this, so that no model
+// out of the bound is scored, optimised or returned.
+bool Engine::ShiftsInBound(const AffineDepthPose& m) const {
+  return !(o_.max_shift_ratio > 0.0) || (std::abs(m.shift0) <= o_.max_shift_ratio * median_prior0_ &&
+                                         std::abs(m.shift1) <= o_.max_shift_ratio * median_prior1_);
+}
+
+// FitDepthParameters on `indices` for the model's pose, within the shift bound: the affine fit when its shifts are in
+// bound, the scale-only fit (shifts 0) otherwise. The model is unchanged when neither fit is determined.
+bool Engine::FitDepthInBound(const std::vector<int>& indices, AffineDepthPose* model) const {
+  AffineDepthPose fit = *model;
+  if (FitDepthParameters(p_, indices, w_.use_shift, &fit) && ShiftsInBound(fit)) {
+    *model = fit;
+    return true;
+  }
+  if (!w_.use_shift) return false;
+  fit = *model;
+  if (!FitDepthParameters(p_, indices, false, &fit)) return false;
+  *model = fit;
+  return true;
 }
 
 // The depth corrections of the final pose: scale, shifts and |t| by least squares of the reprojection errors
@@ -198,7 +224,7 @@ void Engine::LeanOnEpipolarEvidence(AffineDepthPose* model, double* score) {
                        inliers_.sampson, ro, &refined)) {
       return;
     }
-    if (epipolar_only) FitDepthParameters(p_, inliers_.sampson, w_.use_shift, &refined);
+    if (epipolar_only) FitDepthInBound(inliers_.sampson, &refined);
     const std::vector<int> before = inliers_.sampson;
     if (!KeepIfEpipolarInliersRemain(refined, model, score) || inliers_.sampson == before) return;
   }
@@ -276,7 +302,7 @@ void Engine::TakeEpipolarFocal(AffineDepthPose* model, double* score) {
   const bool rejects = std::abs(refined.f0 - model->f0) > 3.0 * sum.sigma_f0 ||
                        (two && std::abs(refined.f1 - model->f1) > 3.0 * sum.sigma_f1);
   if (!rejects) return;
-  FitDepthParameters(p_, inliers_.sampson, w_.use_shift, &refined);
+  FitDepthInBound(inliers_.sampson, &refined);
   KeepIfEpipolarInliersRemain(refined, model, score);
 }
 
@@ -343,12 +369,13 @@ void Engine::LocalOptimize(AffineDepthPose* model, double* score, bool from_poin
     // inliers first.
     ComputeInliers(p_, m_init, w_, &lo_inliers_);
     AffineDepthPose refit = m_init;
-    if (!lo_inliers_.sampson.empty() && FitDepthParameters(p_, lo_inliers_.sampson, w_.use_shift, &refit)) {
+    if (!lo_inliers_.sampson.empty() && FitDepthInBound(lo_inliers_.sampson, &refit)) {
       const double s = ScoreModel(p_, refit, w_);
       if (s < ScoreModel(p_, m_init, w_)) m_init = refit;
     }
   }
   auto consider = [&](const AffineDepthPose& m) {
+    if (!ShiftsInBound(m)) return;
     const double s = ScoreModel(p_, m, w_, *score);
     // Ties are accepted: once the inlier errors are below the rounding of the truncated outlier terms the score
     // stops changing, but the least-squares model is the better one.
@@ -436,6 +463,7 @@ HybridEstimate Engine::Run() {
   std::vector<AffineDepthPose> models;
   models.reserve(16);
   int sample[8];
+  std::vector<int> sample_indices;
 
   // As in RansacLib: a minimal model that beats the best MINIMAL model so far is locally optimised, and the result
   // competes with the best optimised model. (Comparing new minimal models with the optimised score instead would
@@ -527,6 +555,13 @@ HybridEstimate Engine::Run() {
     const double alt_bound = std::min(alt_min_score, (1.0 + o_.alt_basin_lo_margin) * best_min_score);
     const double stop_above = o_.alt_basin_lo_margin > 0.0 ? alt_bound : best_min_score;
     for (int k = 0; k < static_cast<int>(models.size()); ++k) {
+      if (!ShiftsInBound(models[k])) {
+        // A depth-solver model out of the shift bound is not scored; a point model's depth parameters come from
+        // its sample alone and are refitted without shifts (its pose stays a hypothesis either way).
+        if (kind == MinimalSolverKind::kDepth) continue;
+        sample_indices.assign(sample, sample + k_point);
+        if (!FitDepthParameters(p_, sample_indices, false, &models[k])) models[k].shift0 = models[k].shift1 = 0.0;
+      }
       int count = 0;
       const double sc = ScoreModelCounting(p_, models[k], w_, stop_above, best_min_count, &count);
       const bool better = sc < best_min_score, more = count > best_min_count;
@@ -614,7 +649,7 @@ HybridEstimate Engine::Run() {
     if (!w_.use_reprojection) {
       // Sampson-only scoring leaves scale and shifts as the sample gave them: fit them on all
       // epipolar inliers for the output.
-      FitDepthParameters(p_, inliers_.sampson, w_.use_shift, &best);
+      FitDepthInBound(inliers_.sampson, &best);
     } else if (o_.final_depth_fit) {
       FitDepthCorrections(&best, &best_score, &result);
     }

@@ -3,38 +3,72 @@
 // search can stop in its basin.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <random>
 #include <vector>
 
+#include "madsfm/estimators/hybrid_lo_msac.h"
 #include "madsfm/estimators/pair_evaluation.h"
+#include "madsfm/geometry/pose_error.h"
 #include "madsfm/synthetic/two_view_scene.h"
 
 namespace madsfm {
 namespace {
 
-// Pair 17 of `madsfm synth --preset hard_outdoor_shared_focal --seed 7` (the held-out set), seed 1: without the
-// retry the hybrid ends 84 deg off at a model with 1054 epipolar and no depth inliers; the right basin scores 42%
-// lower.
-TEST(DepthLessRetry, WrongBasinWithoutDepthInliersIsSearchedAgain) {
-  const auto set = GenerateTwoViewSet(*SyntheticPairPreset("hard_outdoor_shared_focal"), 18, 7);
-  const PairData& pair = set[17].pair;
-  HybridEstimatorOptions o;
-  o.seed = 1;
-  // The scale-only search after an unobservable result would also leave this basin; the test is about the retry.
-  o.scale_only_fallback = false;
-  o.retry_depth_less = false;
-  const PairResult off = EvaluatePair(pair, CameraMode::kSharedFocal, "hybrid", o);
-  o.retry_depth_less = true;
-  const PairResult on = EvaluatePair(pair, CameraMode::kSharedFocal, "hybrid", o);
-  const double e_off = std::max(*off.rot_err_deg, *off.trans_err_deg);
-  const double e_on = std::max(*on.rot_err_deg, *on.trans_err_deg);
-  std::printf("pose error without retry %.2f deg (depth inliers %d + %d of %d epipolar), with retry %.2f deg\n", e_off,
-              off.num_inliers_reproj0, off.num_inliers_reproj1, off.num_inliers_sampson, e_on);
-  ASSERT_GT(e_off, 5.0) << "the pair no longer shows the failure this test is about";
-  EXPECT_LT(off.num_inliers_reproj0 + off.num_inliers_reproj1, 0.05 * off.num_inliers_sampson);
-  EXPECT_LT(e_on, 1.0);
-  EXPECT_GT(on.num_inliers_reproj0 + on.num_inliers_reproj1, on.num_inliers_sampson);
+// Priors that carry no information (random values independent of the scene): no result has depth inliers,
+// so every search is repeated once with the derived seed, its work is added, and the lower score of the two wins.
+// (The case the retry was added for, a wrong basin without depth inliers reached through minimal models whose
+// shifts were out of the bound, has not occurred on the held-out hard pairs since the bound is applied to every
+// model: 0 of 480 runs against 2 before; docs/benchmarks.md section 11.)
+TEST(DepthLessRetry, ResultsWithoutDepthInliersAreSearchedAgain) {
+  std::mt19937 rng(31);
+  const int kTrials = 10;
+  int retried = 0, pose_ok = 0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    // A calibrated, noise-free pair: depths 2-8, a baseline of 1 (12-50% of the depth), priors independent of the
+    // scene (log-uniform in 0.1-100).
+    std::uniform_real_distribution<double> u(-1.0, 1.0), log_prior(std::log(0.1), std::log(100.0));
+    const Eigen::Matrix3d R =
+        Eigen::AngleAxisd(0.2 * u(rng), Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+    const Eigen::Vector3d t(1.0, 0.2 * u(rng), 0.2 * u(rng));
+    RelposeProblem p;
+    p.pixel_scale0 = p.pixel_scale1 = 500.0;
+    while (p.size() < 150) {
+      const double z = 5.0 + 3.0 * u(rng);
+      const Eigen::Vector3d X(0.5 * z * u(rng), 0.4 * z * u(rng), z);
+      const Eigen::Vector3d Y = R * X + t;
+      if (!(Y.z() > 0.5)) continue;
+      p.x0.push_back(X.head<2>() / X.z());
+      p.x1.push_back(Y.head<2>() / Y.z());
+      p.d0.push_back(std::exp(log_prior(rng)));
+      p.d1.push_back(std::exp(log_prior(rng)));
+    }
+    p.IndexDepths();
+    HybridEstimatorOptions o;
+    o.seed = trial;
+    o.reproj_threshold = 2.0;  // noise-free data: tight thresholds keep chance depth inliers rare
+    o.epipolar_threshold = 1.0;
+    o.scale_only_fallback = false;  // the test is about the retry alone
+    o.retry_depth_less = false;
+    const HybridEstimate off = EstimateHybridRelpose(p, o);
+    o.retry_depth_less = true;
+    const HybridEstimate on = EstimateHybridRelpose(p, o);
+    ASSERT_TRUE(off.success && on.success);
+    const bool depth_less =
+        off.num_inliers_reproj0 + off.num_inliers_reproj1 < 0.05 * off.num_inliers_sampson;
+    if (!depth_less) continue;
+    ++retried;
+    EXPECT_GT(on.iterations, off.iterations) << "trial " << trial;  // the second search's work is counted
+    EXPECT_LE(on.score, off.score) << "trial " << trial;
+    pose_ok += RotationErrorDeg(on.model.R, R) < 1e-4 && TranslationErrorDeg(on.model.t, t) < 1e-3;
+  }
+  std::printf("priors without information: %d of %d results had no depth inliers and were searched again; pose "
+              "recovered in %d\n", retried, kTrials, pose_ok);
+  EXPECT_GE(retried, kTrials * 9 / 10);
+  EXPECT_GE(pose_ok, retried * 9 / 10);  // the epipolar evidence is exact
 }
 
 // A result the priors support is left alone: the same result with and without the retry on every pair of a set.
