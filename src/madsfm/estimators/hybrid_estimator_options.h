@@ -122,7 +122,8 @@ struct HybridEstimatorOptions {
 
   // Bound of the shifts: |shift_i| <= max_shift_ratio x the median prior of view i (0: unbounded). A shift of many
   // times the depths themselves flattens the corrected depth map; it only ever appears where the depths are not
-  // determined.
+  // determined. It holds for every model: depth-solver models beyond it are not scored, depth fits beyond it fall
+  // back to the scale-only fit, and refinement steps beyond it are rejected.
   double max_shift_ratio = 5.0;
   // After the pose is final: fit scale, shifts and |t| to it by least squares of the depth inliers' reprojection
   // errors (R and the direction of t fixed), kept when the score does not get worse.
