@@ -11,6 +11,7 @@
 
 #include "madsfm/estimators/pair_evaluation.h"
 #include "madsfm/synthetic/two_view_scene.h"
+#include "testing/sanitizer.h"
 
 namespace madsfm {
 namespace {
@@ -51,6 +52,7 @@ TEST(TwoFocalPointsIterations, OnlyThePointOnlyTwoFocalSearchIsExtended) {
 // smaller: 29 -> 25 of 300 pairs > 5 deg, 13 pairs better and 7 worse by > 1 deg (it was 36 -> 29, 17 / 5; on the
 // first 60 pairs it is now 6 -> 6), so the test uses 300 pairs.
 TEST(TwoFocalPointsIterations, FewerWrongBasinsWithAccurateMatches) {
+  if (testing::kUnderSanitizer) GTEST_SKIP() << "a rate over 600 estimator runs (450 s under ASan): Release only";
   SyntheticPairOptions preset = *SyntheticPairPreset("hard_outdoor_two_focal");
   preset.min_pixel_noise = 0.1;
   preset.max_pixel_noise = 0.2;
