@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -13,6 +12,7 @@
 
 #include "madsfm/estimators/hybrid_lo_msac.h"
 #include "madsfm/geometry/pose_error.h"
+#include "testing/median.h"
 
 namespace madsfm {
 namespace {
@@ -52,18 +52,13 @@ ShallowScene MakeShallowScene(std::mt19937& rng, int num_points) {
   return s;
 }
 
-double MedianOf(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
-
 TEST(ShiftBound, NoResultOutsideTheBound) {
   std::mt19937 rng(41);
   const int kTrials = 10;
   int successes = 0, pose_within_1deg = 0;
   for (int trial = 0; trial < kTrials; ++trial) {
     const ShallowScene s = MakeShallowScene(rng, 120);
-    const double m0 = MedianOf(s.problem.d0), m1 = MedianOf(s.problem.d1);
+    const double m0 = testing::Median(s.problem.d0), m1 = testing::Median(s.problem.d1);  // as the estimator
     ASSERT_GT(s.truth.shift0, 5.0 * m0);  // the truth is out of the default bound
     HybridEstimatorOptions o;
     o.seed = trial;
