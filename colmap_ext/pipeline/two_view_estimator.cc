@@ -291,14 +291,15 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version changes with the estimator's results ("madsfm-10": the shift
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-11": a shared focal the
+  // epipolar evidence rejects by 5 of its deviations up to 5% (epipolar_focal_wide_sigma); "madsfm-10": the shift
   // bound holds for every model; "madsfm-9": undetermined shifts dropped (scale_only_fallback); "madsfm-8": point-only
   // pairs that COLMAP's verification rejected are not searched, a drifting scale is reset; "madsfm-7": the epipolar
   // focal lengths under the robust loss too; "madsfm-6": the focal lengths' standard deviations stored, the robust
   // last refinement; "madsfm-5": more iterations for two-focal point-only searches; "madsfm-4": the epipolar
   // focal lengths where they are precise; "madsfm-3": other basins' minimal models optimised, depth-less results
   // searched again), so pairs done by an older madsfm are estimated again.
-  s << "madsfm-10;mode=" << o.camera_mode << ";depth=" << depth
+  s << "madsfm-11;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";cheir="
@@ -307,7 +308,7 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/"
     << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.alt_basin_lo_margin
     << ";final=" << e.final_refinement << "/" << e.final_max_lm_iterations << "/" << e.final_reprojection_weight
-    << "/" << e.epipolar_focal_max_sigma << "/" << e.final_cauchy_ratio
+    << "/" << e.epipolar_focal_max_sigma << "/" << e.epipolar_focal_wide_sigma << "/" << e.final_cauchy_ratio
     << ";check=" << e.epipolar_check_ratio << "/" << e.retry_depth_less << "/" << e.scale_only_fallback
     << ";depth_fit=" << e.max_shift_ratio << "/" << e.final_depth_fit << "/" << e.depth_fit_regression << "/"
     << e.max_depth_sigma << ";seed=" << e.seed;

@@ -41,6 +41,8 @@ void HybridEstimatorOptions::Check() const {
   Require(std::isfinite(final_cauchy_ratio) && final_cauchy_ratio >= 0, "final_cauchy_ratio must be >= 0");
   Require(std::isfinite(epipolar_focal_max_sigma) && epipolar_focal_max_sigma >= 0,
           "epipolar_focal_max_sigma must be >= 0");
+  Require(std::isfinite(epipolar_focal_wide_sigma) && epipolar_focal_wide_sigma >= 0,
+          "epipolar_focal_wide_sigma must be >= 0");
   Require(final_max_lm_iterations >= 0, "final_max_lm_iterations must be >= 0");
   Require(!(solvers == SolverChoice::kDepthOnly && scoring == ScoringMode::kSampsonOnly),
           "the depth-only solver needs depth residuals in the score");

@@ -93,6 +93,12 @@ struct HybridEstimatorOptions {
   // where their relative Gauss-Newton standard deviation is at most this and they reject the joint ones (differ by
   // more than 3 deviations) (0: never; Engine::TakeEpipolarFocal; docs/benchmarks.md section 11).
   double epipolar_focal_max_sigma = 0.01;
+  // Shared focal only: also where their relative deviation is at most this (above epipolar_focal_max_sigma) and they
+  // reject the joint focal length by more than 5 deviations. Forward motion leaves the joint focal to the depth priors,
+  // whose non-affine distortion then moves it by 5-100% while its own deviation stays below 1%; the epipolar one,
+  // 2-4% precise there, rejects it (docs/benchmarks.md section 11). Not for two focal lengths: there it lost accuracy
+  // on the sweep (0: off).
+  double epipolar_focal_wide_sigma = 0.05;
   // That last refinement's loss (and, for the point method, a last refinement of pose and focal lengths on the
   // epipolar inliers): Cauchy with a scale of this times the inliers' robust noise level (1.4826 x their median
   // absolute Sampson residual), so that mislocalised matches the threshold still admits pull less than under least

@@ -283,8 +283,10 @@ bool Engine::KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineD
 // joint estimate, under the last refinement's Cauchy loss (a tail of mislocalised matches inside the threshold
 // biases least-squares focal lengths as it biases the pose), and taken when the Gauss-Newton standard deviation of
 // every focal length is at most epipolar_focal_max_sigma (relative), a focal length moved by more than 3 of them,
-// and >= 95% of the epipolar inliers remain; elsewhere (small baselines, forward motion, noisy matches: a flat
-// epipolar cost; or a joint estimate the epipolar evidence does not reject) the depth priors keep setting them.
+// and >= 95% of the epipolar inliers remain (shared focal: also a deviation up to epipolar_focal_wide_sigma and a
+// move of more than 5 of them, as in forward motion, where the priors' distortion sets the joint focal); elsewhere
+// (small baselines, noisy matches: a flat epipolar cost; or a joint estimate the epipolar evidence does not reject)
+// the depth priors keep setting them.
 void Engine::TakeEpipolarFocal(AffineDepthPose* model, double* score) {
   RelposeRefinerOptions ro = RefinerOptions(o_.final_max_lm_iterations);
   ro.reprojection_weight = 0.0;
@@ -296,11 +298,16 @@ void Engine::TakeEpipolarFocal(AffineDepthPose* model, double* score) {
   if (!RefineRelpose(p_, none, none, inliers_.sampson, ro, &refined, &sum)) return;
   const bool two = p_.mode == CameraMode::kTwoFocal;
   const double rel0 = sum.sigma_f0 / refined.f0, rel1 = two ? sum.sigma_f1 / refined.f1 : 0.0;
-  if (!(rel0 <= o_.epipolar_focal_max_sigma && rel1 <= o_.epipolar_focal_max_sigma)) return;
-  // Only where the epipolar evidence rejects the joint focal lengths (3 sigma): within its noise the joint estimate
+  // A shared focal length the epipolar evidence determines less precisely (epipolar_focal_wide_sigma) must be
+  // rejected by more of its deviations.
+  const bool precise = rel0 <= o_.epipolar_focal_max_sigma && rel1 <= o_.epipolar_focal_max_sigma;
+  const bool wide = !precise && p_.mode == CameraMode::kSharedFocal && rel0 <= o_.epipolar_focal_wide_sigma;
+  if (!precise && !wide) return;
+  const double k = precise ? 3.0 : 5.0;
+  // Only where the epipolar evidence rejects the joint focal lengths (k sigma): within its noise the joint estimate
   // is as good, and the Sampson-only pose can slide along a valley its focal-length deviation does not show.
-  const bool rejects = std::abs(refined.f0 - model->f0) > 3.0 * sum.sigma_f0 ||
-                       (two && std::abs(refined.f1 - model->f1) > 3.0 * sum.sigma_f1);
+  const bool rejects = std::abs(refined.f0 - model->f0) > k * sum.sigma_f0 ||
+                       (two && std::abs(refined.f1 - model->f1) > k * sum.sigma_f1);
   if (!rejects) return;
   FitDepthInBound(inliers_.sampson, &refined);
   KeepIfEpipolarInliersRemain(refined, model, score);

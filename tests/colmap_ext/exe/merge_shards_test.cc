@@ -339,6 +339,7 @@ TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
       {"final_max_lm_iterations", [](HybridEstimatorOptions* e) { e->final_max_lm_iterations += 1; }},
       {"final_reprojection_weight", [](HybridEstimatorOptions* e) { e->final_reprojection_weight = 0.5; }},
       {"epipolar_focal_max_sigma", [](HybridEstimatorOptions* e) { e->epipolar_focal_max_sigma = 0.0; }},
+      {"epipolar_focal_wide_sigma", [](HybridEstimatorOptions* e) { e->epipolar_focal_wide_sigma = 0.0; }},
       {"final_cauchy_ratio", [](HybridEstimatorOptions* e) { e->final_cauchy_ratio = 0.0; }},
       {"epipolar_check_ratio", [](HybridEstimatorOptions* e) { e->epipolar_check_ratio = 1.5; }},
       {"retry_depth_less", [](HybridEstimatorOptions* e) { e->retry_depth_less = !e->retry_depth_less; }},
