@@ -46,7 +46,8 @@ struct EstimatorFlags {
                        "Focal modes: take the epipolar inliers' own focal lengths where their relative standard "
                        "deviation is at most this and they differ from the joint ones by > 3 deviations (0: never).");
     parser->AddDefault("epipolar_focal_wide_sigma", &options.epipolar_focal_wide_sigma,
-                       "Shared focal: ... also where it is at most this and differs by > 5 deviations (0: off).");
+                       "Shared focal: also where that deviation is at most this and they differ by > 5 "
+                       "deviations (0: off).");
     parser->AddDefault("epipolar_check_ratio", &options.epipolar_check_ratio,
                        "Calibrated: a point-only run replaces the hybrid pose when it has this many times its epipolar "
                        "inliers (0: off).");

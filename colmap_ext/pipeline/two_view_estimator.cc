@@ -291,14 +291,14 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version changes with the estimator's results ("madsfm-11": a shared focal the
-  // epipolar evidence rejects by 5 of its deviations up to 5% (epipolar_focal_wide_sigma); "madsfm-10": the shift
-  // bound holds for every model; "madsfm-9": undetermined shifts dropped (scale_only_fallback); "madsfm-8": point-only
-  // pairs that COLMAP's verification rejected are not searched, a drifting scale is reset; "madsfm-7": the epipolar
-  // focal lengths under the robust loss too; "madsfm-6": the focal lengths' standard deviations stored, the robust
-  // last refinement; "madsfm-5": more iterations for two-focal point-only searches; "madsfm-4": the epipolar
-  // focal lengths where they are precise; "madsfm-3": other basins' minimal models optimised, depth-less results
-  // searched again), so pairs done by an older madsfm are estimated again.
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-11": a shared
+  // focal the epipolar evidence rejects by 5 of its deviations up to 5% (epipolar_focal_wide_sigma); "madsfm-10":
+  // the shift bound holds for every model; "madsfm-9": undetermined shifts dropped (scale_only_fallback);
+  // "madsfm-8": point-only pairs that COLMAP's verification rejected are not searched, a drifting scale is reset;
+  // "madsfm-7": the epipolar focal lengths under the robust loss too; "madsfm-6": the focal lengths' standard
+  // deviations stored, the robust last refinement; "madsfm-5": more iterations for two-focal point-only searches;
+  // "madsfm-4": the epipolar focal lengths where they are precise; "madsfm-3": other basins' minimal models
+  // optimised, depth-less results searched again), so pairs done by an older madsfm are estimated again.
   s << "madsfm-11;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
