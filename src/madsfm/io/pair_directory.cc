@@ -184,8 +184,10 @@ void ReadImageSize(const json& info, int index, const std::string& dir, const st
     if (ok) {
       const double w = v[0].get<double>(), h = v[1].get<double>();
       ok = w >= 1 && h >= 1 && w <= 1e9 && h <= 1e9 && w == std::floor(w) && h == std::floor(h);
-      *width = static_cast<int>(w);
-      *height = static_cast<int>(h);
+      if (ok) {  // converted only once in range (a double beyond int's range is undefined behaviour)
+        *width = static_cast<int>(w);
+        *height = static_cast<int>(h);
+      }
     }
     if (!ok) Fail("pair file", file, "'" + key + "' must be [width, height] with positive integers");
     return;

@@ -302,6 +302,8 @@ TEST(PairDirectory, MalformedPairsThrowNamingTheFile) {
        (fs::path(dir) / "depth_0.npy").string(), "differ by more than 1%"},
       {"bad image size", [](json& j, const std::string&) { j["image_size_1"] = {640.5, 480}; }, info,
        "'image_size_1' must be [width, height]"},
+      {"huge image size", [](json& j, const std::string&) { j["image_size_0"] = {8.11111e95, 480}; }, info,
+       "'image_size_0' must be [width, height]"},
       {"depth not a string", [](json& j, const std::string&) { j["depth_0_file"] = 3; }, info,
        "'depth_0_file' must be a non-empty file name"},
       {"corrupt depth",
