@@ -71,7 +71,6 @@ struct Dual {
   Dual(double value, double g0, double g1) : a(value), d0(g0), d1(g1) {}
 };
 inline Dual operator+(const Dual& x, const Dual& y) { return {x.a + y.a, x.d0 + y.d0, x.d1 + y.d1}; }
-inline Dual operator-(const Dual& x, const Dual& y) { return {x.a - y.a, x.d0 - y.d0, x.d1 - y.d1}; }
 inline Dual operator*(const Dual& x, const Dual& y) {
   return {x.a * y.a, x.d0 * y.a + x.a * y.d0, x.d1 * y.a + x.a * y.d1};
 }
