@@ -402,8 +402,15 @@ std::vector<Camera> Database::ReadCameras() const {
     Camera camera;
     camera.camera_id = static_cast<camera_t>(stmt.Int64(0));
     camera.intrinsics.model_id = static_cast<int>(stmt.Int64(1));
-    camera.intrinsics.width = static_cast<int>(stmt.Int64(2));
-    camera.intrinsics.height = static_cast<int>(stmt.Int64(3));
+    const int64_t width = stmt.Int64(2), height = stmt.Int64(3);
+    if (width < 1 || height < 1 || width > std::numeric_limits<int>::max() ||
+        height > std::numeric_limits<int>::max()) {
+      throw std::runtime_error("'" + path_ + "': " + DescribeCamera(camera.camera_id) + " has an invalid size " +
+                               std::to_string(width) + " x " + std::to_string(height) +
+                               " (width and height must be positive pixel counts)");
+    }
+    camera.intrinsics.width = static_cast<int>(width);
+    camera.intrinsics.height = static_cast<int>(height);
     size_t num_bytes = 0;
     const void* data = stmt.Blob(4, &num_bytes);
     if (num_bytes % sizeof(double) != 0) {

@@ -1192,6 +1192,18 @@ TEST_F(SyntheticDatabase, CameraParamsOfTheWrongLength) {
                          "PINHOLE"});
 }
 
+TEST_F(SyntheticDatabase, CameraOfInvalidSize) {
+  const std::vector<std::string> sizes = {"width = 0", "height = -480", "width = 4294967296"};
+  for (size_t k = 0; k < sizes.size(); ++k) {
+    const std::string name = "camera_size_" + std::to_string(k) + ".db";
+    const std::string path = MakeDb(name);
+    RawDb(path).Exec("UPDATE cameras SET " + sizes[k] + " WHERE camera_id = 2");
+    auto db = Database::Open(path, true);
+    ExpectErrorContaining([&] { db->ReadCameras(); },
+                          {name, "camera_id 2 (used by 'img2.png', 'img5.jpg') has an invalid size"});
+  }
+}
+
 TEST_F(SyntheticDatabase, InvalidWrites) {
   const std::string path = MakeDb("writes.db");
   auto db = Database::Open(path);
