@@ -4,70 +4,28 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <random>
 #include <stdexcept>
 #include <utility>
 
+#include "madsfm/synthetic/scene_primitives.h"
+
 namespace madsfm {
 namespace {
+
+using synthetic::Box;
+using synthetic::Rng;
+using synthetic::SplitMix64;
+using synthetic::ToLocal;
+using synthetic::ToWorld;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double DegToRad(double deg) { return deg * kPi / 180.0; }
 
-// Portable sampling on top of std::mt19937_64 (the std:: distributions differ between standard libraries).
-class Rng {
- public:
-  explicit Rng(uint64_t seed) : engine_(seed) {}
-  double Uniform() { return static_cast<double>(engine_() >> 11) * 0x1.0p-53; }  // [0, 1)
-  double Uniform(double lo, double hi) { return lo + (hi - lo) * Uniform(); }
-  double LogUniform(double lo, double hi) { return std::exp(Uniform(std::log(lo), std::log(hi))); }
-  int UniformInt(int lo, int hi) {  // inclusive
-    const int v = lo + static_cast<int>(Uniform() * (hi - lo + 1));
-    return std::min(v, hi);
-  }
-  double Normal() {  // Box-Muller
-    const double u1 = 1.0 - Uniform();  // (0, 1]
-    const double u2 = Uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
-  }
-  double TruncatedNormal(double limit) {
-    for (int i = 0; i < 100; ++i) {
-      const double v = Normal();
-      if (std::abs(v) <= limit) return v;
-    }
-    return 0.0;
-  }
-
- private:
-  std::mt19937_64 engine_;
-};
-
-uint64_t SplitMix64(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ULL;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
-  return x ^ (x >> 31);
-}
-
 // ------------------------------------------------------------------------------------------------------------------
 // Scene: boxes (yawed about the vertical z axis), an optional room (a box seen from inside), an optional ground plane
 // z = 0 and an optional vertical background cylinder. Every planar face has its own surface id.
-
-struct Box {
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();
-  Eigen::Vector3d half = Eigen::Vector3d::Ones();
-  double cos_yaw = 1.0, sin_yaw = 0.0;
-  int first_surface = 0;  // faces -x, +x, -y, +y, -z, +z get first_surface + 0..5
-};
-
-Eigen::Vector3d ToLocal(const Box& b, const Eigen::Vector3d& v) {
-  return Eigen::Vector3d(b.cos_yaw * v.x() + b.sin_yaw * v.y(), -b.sin_yaw * v.x() + b.cos_yaw * v.y(), v.z());
-}
-Eigen::Vector3d ToWorld(const Box& b, const Eigen::Vector3d& v) {
-  return Eigen::Vector3d(b.cos_yaw * v.x() - b.sin_yaw * v.y(), b.sin_yaw * v.x() + b.cos_yaw * v.y(), v.z());
-}
 
 // Slab test in a box's frame (lo, ld: ray origin relative to the centre and direction, in box axes): entry/exit
 // parameters and faces; false if the ray line misses the box.
@@ -186,14 +144,7 @@ bool Cast(const Scene& s, const Eigen::Vector3d& o, const Eigen::Vector3d& d, do
 }
 
 Box MakeBox(Scene* s, const Eigen::Vector3d& center, const Eigen::Vector3d& size, double yaw) {
-  Box b;
-  b.center = center;
-  b.half = 0.5 * size;
-  b.cos_yaw = std::cos(yaw);
-  b.sin_yaw = std::sin(yaw);
-  b.first_surface = s->num_surfaces;
-  s->num_surfaces += 6;
-  return b;
+  return synthetic::MakeBox(center, size, yaw, &s->num_surfaces);
 }
 
 // Is p at least margin away from every solid (and inside the room / above the ground)?
@@ -630,7 +581,6 @@ double SubsampledMedian(const std::vector<double>& values, const std::vector<dou
   }
   return Median(std::move(kept));
 }
-
 
 void GaussianBlur(double sigma, int w, int h, std::vector<double>* image) {
   if (sigma <= 0.0) return;
