@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "madsfm/geometry/pose_error.h"
 #include "madsfm/solvers/affine_depth_solver_utils.h"
 #include "testing/solver_corruptions.h"
 #include "testing/solver_instances.h"
@@ -30,11 +31,6 @@ using testing::kInf;
 using testing::kNaN;
 
 constexpr int kMaxSolutions = 4;
-
-double RotationErrorDeg(const Eigen::Matrix3d& R, const Eigen::Matrix3d& R_gt) {
-  const double c = std::clamp(((R.transpose() * R_gt).trace() - 1.0) / 2.0, -1.0, 1.0);
-  return std::acos(c) * 180.0 / M_PI;
-}
 
 using testing::Median;
 

@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "madsfm/geometry/pose_error.h"
 #include "testing/solver_instances.h"
 #include "testing/median.h"
 
@@ -68,11 +69,6 @@ double MaxEnforcedResidual(const AffineDepthPose& m, const SolverInstance& inst)
     worst = std::max(worst, std::abs(l0 - l1) / std::max(l0, l1));
   }
   return worst;
-}
-
-double RotationErrorDeg(const Eigen::Matrix3d& R, const Eigen::Matrix3d& R_gt) {
-  const double c = std::clamp(0.5 * ((R.transpose() * R_gt).trace() - 1.0), -1.0, 1.0);
-  return std::acos(c) * 180.0 / M_PI;
 }
 
 using testing::Median;

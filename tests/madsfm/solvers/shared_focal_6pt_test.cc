@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "madsfm/geometry/pose_error.h"
 #include "testing/solver_instances.h"
 #include "testing/median.h"
 
@@ -134,11 +135,6 @@ Eigen::Matrix3d RotationFromEssential(const Eigen::Matrix3d& E, const std::vecto
     }
   }
   return best_R;
-}
-
-double RotationErrorDeg(const Eigen::Matrix3d& R, const Eigen::Matrix3d& R_gt) {
-  const double c = std::clamp(((R.transpose() * R_gt).trace() - 1.0) / 2.0, -1.0, 1.0);
-  return std::acos(c) * 180.0 / M_PI;
 }
 
 using testing::Median;
