@@ -64,6 +64,9 @@ struct EstimatorFlags {
     parser->AddDefault("alt_basin_lo_margin", &options.alt_basin_lo_margin,
                        "A minimal model of another basin within this fraction of the best minimal score is locally "
                        "optimised too (0: off).");
+    parser->AddDefault("planar_twin_min_support", &options.planar_twin_min_support,
+                       "Where this fraction of the epipolar inliers fit one homography, the other decomposition of it "
+                       "(the planar twin) competes with the result (0: off).");
     parser->AddDefault("retry_depth_less", &options.retry_depth_less,
                        "Hybrid: search once more when the result has almost no depth inliers (1) or not (0).");
     parser->AddDefault("scale_only_fallback", &options.scale_only_fallback,

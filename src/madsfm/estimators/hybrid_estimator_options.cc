@@ -31,6 +31,8 @@ void HybridEstimatorOptions::Check() const {
   Require(lo_lsq_sample_size >= 8, "lo_lsq_sample_size must be >= 8");
   Require(lo_starting_iterations >= 0, "lo_starting_iterations must be >= 0");
   Require(std::isfinite(alt_basin_lo_margin) && alt_basin_lo_margin >= 0.0, "alt_basin_lo_margin must be >= 0");
+  Require(planar_twin_min_support >= 0.0 && planar_twin_min_support <= 1.0,
+          "planar_twin_min_support must be in [0, 1]");
   Require(std::isfinite(max_shift_ratio) && max_shift_ratio >= 0, "max_shift_ratio must be >= 0");
   Require(std::isfinite(cheirality_min_parallax) && cheirality_min_parallax >= 0,
           "cheirality_min_parallax must be >= 0");

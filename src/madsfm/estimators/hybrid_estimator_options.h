@@ -78,6 +78,13 @@ struct HybridEstimatorOptions {
   // than every such model before (0: off). Minimal models of the right basin can score a few percent worse than a
   // lucky one of a wrong basin (far points, noisy samples) and would otherwise never be optimised.
   double alt_basin_lo_margin = 0.05;
+  // Point method (Sampson-only score), after the search: where at least this fraction of the best model's epipolar
+  // inliers fit one plane-induced homography (within 2x epipolar_threshold) seen with a baseline of at least 5% of the
+  // plane's distance, the other decomposition of that homography (the planar twin: both explain every point of the
+  // plane, only the points off it decide) is locally optimised too and competes with the best (0: off). A search can
+  // end in the twin's basin when its minimal models happen to score better there. The hybrid score needs no such step:
+  // the depth priors tell the twins apart (docs/benchmarks.md section 11).
+  double planar_twin_min_support = 0.5;
   // Levenberg-Marquardt iterations per least-squares solve.
   int lo_max_lm_iterations = 10;
   // Final refinement on the inliers of the best model.
@@ -166,6 +173,9 @@ struct HybridEstimate {
   // whether it then scored lower than the search's best and replaced it.
   double runner_up_score = std::numeric_limits<double>::infinity();
   bool runner_up_won = false;
+  // The planar twin of the search's best model was optimised (planar_twin_min_support), and it replaced the best.
+  bool planar_twin_tried = false;
+  bool planar_twin_won = false;
   // Standard deviations of the depth corrections from the final depth fit (shifts relative to the median prior of
   // their view, scale relative to itself; NaN when not estimated), and whether they are all below
   // options.max_depth_sigma: false means the priors do not determine scale and shifts (tiny baseline, pure

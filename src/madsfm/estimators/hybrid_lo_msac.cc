@@ -11,6 +11,7 @@
 #include "madsfm/estimators/hybrid_sampling.h"
 #include "madsfm/estimators/minimal_solvers.h"
 #include "madsfm/estimators/msac_scoring.h"
+#include "madsfm/geometry/homography.h"
 #include "madsfm/refinement/relpose_refiner.h"
 
 namespace madsfm {
@@ -18,6 +19,12 @@ namespace {
 
 // Bound of the fitted scale around the ratio of the views' median priors (HybridEstimate::scale_reset).
 constexpr double kMaxScaleRatio = 1000.0;
+
+// The planar twin is only tried where the baseline is at least this fraction of the plane's distance from camera 0 (the
+// |t| of the twin's decomposition of the homography). Below it both decompositions differ little in rotation, the points off the
+// plane barely tell them apart, and on the low-parallax sets the twin changed results both ways (the sweep of
+// docs/benchmarks.md section 11, update of 2026-12-05 afternoon).
+constexpr double kMinPlanarTwinBaseline = 0.05;
 
 // Inlier ratios of the data types that drive the solver probabilities.
 struct InlierRatios {
@@ -94,6 +101,7 @@ class Engine {
   bool KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineDepthPose* model, double* score);
   bool ShiftsInBound(const AffineDepthPose& model) const;
   bool FitDepthInBound(const std::vector<int>& indices, AffineDepthPose* model) const;
+  bool PlanarTwin(const AffineDepthPose& best, AffineDepthPose* twin);
 
   const RelposeProblem& p_;
   const HybridEstimatorOptions& o_;
@@ -448,6 +456,53 @@ void Engine::DrawSubset(const InlierSets& in, int k, InlierSets* out) {
   }
 }
 
+// The planar twin of `best` (planar_twin_min_support), for the Sampson-only score: a homography fitted to its
+// epipolar inliers by linear least squares with two rounds of re-selection (transfer error within 2x the epipolar
+// threshold), and if it holds enough of them and the baseline is at least kMinPlanarTwinBaseline of the plane's
+// distance, the decomposition of it that is further from `best`, with |t| and the focal lengths of `best` (the depth
+// parameters do not enter this score; the output's are fitted at the end). False when there is no such twin.
+bool Engine::PlanarTwin(const AffineDepthPose& best, AffineDepthPose* twin) {
+  if (w_.use_reprojection || !w_.use_sampson) return false;
+  ComputeInliers(p_, best, w_, &inliers_);
+  const std::vector<int>& in = inliers_.sampson;
+  const int n = static_cast<int>(in.size());
+  if (n < 8 || !(best.t.norm() > 0.0)) return false;
+  std::vector<Eigen::Vector2d> y0(n), y1(n);  // normalised coordinates
+  for (int k = 0; k < n; ++k) {
+    y0[k] = p_.x0[in[k]] / best.f0;
+    y1[k] = p_.x1[in[k]] / best.f1;
+  }
+  const double threshold = 2.0 * o_.epipolar_threshold / (p_.pixel_scale1 * best.f1);
+  std::vector<int> support(n);
+  for (int k = 0; k < n; ++k) support[k] = k;
+  Eigen::Matrix3d H;
+  for (int round = 0; round < 3; ++round) {
+    if (!FitHomographyLinear(y0, y1, support, &H)) return false;
+    std::vector<int> next;
+    for (int k = 0; k < n; ++k) {
+      if (HomographyTransferError(H, y0[k], y1[k]) < threshold) next.push_back(k);
+    }
+    if (next.size() < 8) return false;
+    support.swap(next);
+  }
+  if (support.size() < o_.planar_twin_min_support * n) return false;
+  const std::vector<PlanarPose> poses = DecomposeHomography(H, y0, y1, support);
+  if (poses.size() != 2) return false;
+  // The decomposition closer to `best` is its own; the other one is the twin.
+  auto distance = [&](const PlanarPose& q) {
+    const double cos_r = std::clamp(0.5 * ((q.R.transpose() * best.R).trace() - 1.0), -1.0, 1.0);
+    const double nt = q.t.norm();
+    const double cos_t = nt > 0.0 ? std::clamp(q.t.dot(best.t) / (nt * best.t.norm()), -1.0, 1.0) : 1.0;
+    return std::acos(cos_r) + std::acos(cos_t);
+  };
+  const PlanarPose& q = distance(poses[0]) > distance(poses[1]) ? poses[0] : poses[1];
+  if (!(q.t.norm() >= kMinPlanarTwinBaseline)) return false;
+  *twin = best;
+  twin->R = q.R;
+  twin->t = q.t.normalized() * best.t.norm();
+  return DistinctModels(best, *twin);
+}
+
 HybridEstimate Engine::Run() {
   const auto start = std::chrono::steady_clock::now();
   HybridEstimate result;
@@ -617,6 +672,16 @@ HybridEstimate Engine::Run() {
     optimize_pending_alt();
   }
   result.iterations = it;
+
+  if (have_best && o_.planar_twin_min_support > 0.0) {
+    AffineDepthPose twin;
+    if (PlanarTwin(best, &twin)) {
+      result.planar_twin_tried = true;
+      const double before = best_score;
+      optimize_and_compete(twin, ScoreModel(p_, twin, w_), true);
+      result.planar_twin_won = best_score < before;
+    }
+  }
 
   if (have_best) {
     // Refine on the final inliers, re-select the inliers and refine once more; keep the result only if it improves
