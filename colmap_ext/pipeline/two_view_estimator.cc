@@ -307,7 +307,8 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     << e.sampson_cheirality << "/" << e.cheirality_min_parallax << ";it=" << e.min_iterations << "/" << e.min_iterations_two_focal_points << "-"
     << e.max_iterations << ";conf=" << e.confidence << ";lo=" << e.num_lo_steps << "/" << e.num_lo_lsq_steps << "/"
     << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/"
-    << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.alt_basin_lo_margin << "/" << e.planar_twin_min_support
+    << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.alt_basin_lo_margin << "/"
+    << e.planar_twin_min_support
     << ";final=" << e.final_refinement << "/" << e.final_max_lm_iterations << "/" << e.final_reprojection_weight
     << "/" << e.epipolar_focal_max_sigma << "/" << e.epipolar_focal_wide_sigma << "/" << e.final_cauchy_ratio
     << ";check=" << e.epipolar_check_ratio << "/" << e.retry_depth_less << "/" << e.scale_only_fallback

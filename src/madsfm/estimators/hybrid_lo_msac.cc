@@ -20,10 +20,10 @@ namespace {
 // Bound of the fitted scale around the ratio of the views' median priors (HybridEstimate::scale_reset).
 constexpr double kMaxScaleRatio = 1000.0;
 
-// The planar twin is only tried where the baseline is at least this fraction of the plane's distance from camera 0 (the
-// |t| of the twin's decomposition of the homography). Below it both decompositions differ little in rotation, the points off the
-// plane barely tell them apart, and on the low-parallax sets the twin changed results both ways (the sweep of
-// docs/benchmarks.md section 11, update of 2026-12-05 afternoon).
+// The planar twin is only tried where the baseline is at least this fraction of the plane's distance from camera 0
+// (the |t| of the twin's decomposition of the homography). Below it both decompositions differ little in rotation, the
+// points off the plane barely tell them apart, and on the low-parallax sets the twin changed results both ways (the
+// sweep of docs/benchmarks.md section 11, update of 2026-12-05 afternoon).
 constexpr double kMinPlanarTwinBaseline = 0.05;
 
 // Inlier ratios of the data types that drive the solver probabilities.
