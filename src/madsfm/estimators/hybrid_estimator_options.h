@@ -173,9 +173,6 @@ struct HybridEstimate {
   // whether it then scored lower than the search's best and replaced it.
   double runner_up_score = std::numeric_limits<double>::infinity();
   bool runner_up_won = false;
-  // The planar twin of the search's best model was optimised (planar_twin_min_support), and it replaced the best.
-  bool planar_twin_tried = false;
-  bool planar_twin_won = false;
   // Standard deviations of the depth corrections from the final depth fit (shifts relative to the median prior of
   // their view, scale relative to itself; NaN when not estimated), and whether they are all below
   // options.max_depth_sigma: false means the priors do not determine scale and shifts (tiny baseline, pure

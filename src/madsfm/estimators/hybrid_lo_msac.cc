@@ -68,11 +68,20 @@ double MedianPrior(const std::vector<double>& d, const std::vector<int>& valid) 
 
 // Whether two models lie in different basins of the score: rotations more than 1 deg apart, or translation directions
 // more than 5 deg apart.
+// Cosines of the angle between two rotations and between two translation directions (1 when a translation is 0).
+struct PoseCosines {
+  double rotation, translation;
+};
+PoseCosines CosinesBetween(const Eigen::Matrix3d& Ra, const Eigen::Vector3d& ta, const Eigen::Matrix3d& Rb,
+                           const Eigen::Vector3d& tb) {
+  const double na = ta.norm(), nb = tb.norm();
+  return {std::clamp(0.5 * ((Ra.transpose() * Rb).trace() - 1.0), -1.0, 1.0),
+          na > 0.0 && nb > 0.0 ? std::clamp(ta.dot(tb) / (na * nb), -1.0, 1.0) : 1.0};
+}
+
 bool DistinctModels(const AffineDepthPose& a, const AffineDepthPose& b) {
-  const double cos_r = std::clamp(0.5 * ((a.R.transpose() * b.R).trace() - 1.0), -1.0, 1.0);
-  const double na = a.t.norm(), nb = b.t.norm();
-  const double cos_t = na > 0.0 && nb > 0.0 ? std::clamp(a.t.dot(b.t) / (na * nb), -1.0, 1.0) : 1.0;
-  return cos_r < std::cos(1.0 * M_PI / 180.0) || cos_t < std::cos(5.0 * M_PI / 180.0);
+  const PoseCosines c = CosinesBetween(a.R, a.t, b.R, b.t);
+  return c.rotation < std::cos(1.0 * M_PI / 180.0) || c.translation < std::cos(5.0 * M_PI / 180.0);
 }
 
 class Engine {
@@ -490,10 +499,8 @@ bool Engine::PlanarTwin(const AffineDepthPose& best, AffineDepthPose* twin) {
   if (poses.size() != 2) return false;
   // The decomposition closer to `best` is its own; the other one is the twin.
   auto distance = [&](const PlanarPose& q) {
-    const double cos_r = std::clamp(0.5 * ((q.R.transpose() * best.R).trace() - 1.0), -1.0, 1.0);
-    const double nt = q.t.norm();
-    const double cos_t = nt > 0.0 ? std::clamp(q.t.dot(best.t) / (nt * best.t.norm()), -1.0, 1.0) : 1.0;
-    return std::acos(cos_r) + std::acos(cos_t);
+    const PoseCosines c = CosinesBetween(q.R, q.t, best.R, best.t);
+    return std::acos(c.rotation) + std::acos(c.translation);
   };
   const PlanarPose& q = distance(poses[0]) > distance(poses[1]) ? poses[0] : poses[1];
   if (!(q.t.norm() >= kMinPlanarTwinBaseline)) return false;
@@ -675,12 +682,7 @@ HybridEstimate Engine::Run() {
 
   if (have_best && o_.planar_twin_min_support > 0.0) {
     AffineDepthPose twin;
-    if (PlanarTwin(best, &twin)) {
-      result.planar_twin_tried = true;
-      const double before = best_score;
-      optimize_and_compete(twin, ScoreModel(p_, twin, w_), true);
-      result.planar_twin_won = best_score < before;
-    }
+    if (PlanarTwin(best, &twin)) optimize_and_compete(twin, ScoreModel(p_, twin, w_), true);
   }
 
   if (have_best) {
