@@ -57,6 +57,10 @@ struct EstimatorFlags {
                        "... where their rays are further apart than this many times the Sampson threshold's angle.");
     parser->AddDefault("num_lo_lsq_steps", &options.num_lo_lsq_steps,
                        "Least-squares fits with a shrinking threshold per local-optimisation round.");
+    parser->AddDefault("lo_max_lm_iterations", &options.lo_max_lm_iterations,
+                       "Levenberg-Marquardt iterations per least-squares fit of the local optimisation.");
+    parser->AddDefault("lo_max_lm_iterations_two_focal", &options.lo_max_lm_iterations_two_focal,
+                       "... with two unknown focal lengths.");
     parser->AddDefault("lo_threshold_multiplier", &options.lo_threshold_multiplier,
                        "Relaxation of the squared thresholds at the start of the local optimisation.");
     parser->AddDefault("lo_starting_iterations", &options.lo_starting_iterations,

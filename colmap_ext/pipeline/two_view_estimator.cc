@@ -291,7 +291,8 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version changes with the estimator's results ("madsfm-12": the planar
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-13": 6 LM
+  // iterations per local-optimisation fit outside two focal (lo_max_lm_iterations); "madsfm-12": the planar
   // twin of the best model competes (planar_twin_min_support); "madsfm-11": a shared
   // focal the epipolar evidence rejects by 5 of its deviations up to 5% (epipolar_focal_wide_sigma); "madsfm-10":
   // the shift bound holds for every model; "madsfm-9": undetermined shifts dropped (scale_only_fallback);
@@ -300,14 +301,14 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
   // deviations stored, the robust last refinement; "madsfm-5": more iterations for two-focal point-only searches;
   // "madsfm-4": the epipolar focal lengths where they are precise; "madsfm-3": other basins' minimal models
   // optimised, depth-less results searched again), so pairs done by an older madsfm are estimated again.
-  s << "madsfm-12;mode=" << o.camera_mode << ";depth=" << depth
+  s << "madsfm-13;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";cheir="
     << e.sampson_cheirality << "/" << e.cheirality_min_parallax << ";it=" << e.min_iterations << "/" << e.min_iterations_two_focal_points << "-"
     << e.max_iterations << ";conf=" << e.confidence << ";lo=" << e.num_lo_steps << "/" << e.num_lo_lsq_steps << "/"
     << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/"
-    << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.alt_basin_lo_margin << "/"
+    << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.lo_max_lm_iterations_two_focal << "/" << e.alt_basin_lo_margin << "/"
     << e.planar_twin_min_support
     << ";final=" << e.final_refinement << "/" << e.final_max_lm_iterations << "/" << e.final_reprojection_weight
     << "/" << e.epipolar_focal_max_sigma << "/" << e.epipolar_focal_wide_sigma << "/" << e.final_cauchy_ratio

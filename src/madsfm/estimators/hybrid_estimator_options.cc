@@ -24,6 +24,7 @@ void HybridEstimatorOptions::Check() const {
   Require(confidence > 0 && confidence < 1, "confidence must be in (0, 1)");
   Require(num_lo_steps >= 0, "num_lo_steps must be >= 0");
   Require(lo_max_lm_iterations >= 0, "lo_max_lm_iterations must be >= 0");
+  Require(lo_max_lm_iterations_two_focal >= 0, "lo_max_lm_iterations_two_focal must be >= 0");
   Require(num_lo_lsq_steps >= 1, "num_lo_lsq_steps must be >= 1");
   Require(std::isfinite(lo_threshold_multiplier) && lo_threshold_multiplier >= 1,
           "lo_threshold_multiplier must be >= 1");

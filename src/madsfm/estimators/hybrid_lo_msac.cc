@@ -357,25 +357,47 @@ void Engine::FocalSigmas(const AffineDepthPose& model, HybridEstimate* result) c
 // in depth_observable_test), so the flag must not rest on the standard deviations alone. true when there are too
 // few epipolar inliers to judge by.
 bool Engine::ParallaxMeasurable(const AffineDepthPose& model) const {
-  if (inliers_.sampson.size() < 5) return true;
-  Eigen::Matrix3d cross = Eigen::Matrix3d::Zero();
-  for (int i : inliers_.sampson) {
-    const Eigen::Vector3d r0 = Eigen::Vector3d(p_.x0[i].x() / model.f0, p_.x0[i].y() / model.f0, 1.0).normalized();
-    const Eigen::Vector3d r1 = Eigen::Vector3d(p_.x1[i].x() / model.f1, p_.x1[i].y() / model.f1, 1.0).normalized();
-    cross.noalias() += r1 * r0.transpose();
+  const std::vector<int>& in = inliers_.sampson;
+  if (in.size() < 5) return true;
+  std::vector<Eigen::Vector3d> y0(in.size()), y1(in.size());
+  for (size_t k = 0; k < in.size(); ++k) {
+    y0[k] = Eigen::Vector3d(p_.x0[in[k]].x() / model.f0, p_.x0[in[k]].y() / model.f0, 1.0);
+    y1[k] = Eigen::Vector3d(p_.x1[in[k]].x() / model.f1, p_.x1[in[k]].y() / model.f1, 1.0);
   }
-  // argmax trace(R^T cross) over rotations (Kabsch).
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(cross, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
-  d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
-  const Eigen::Matrix3d R = svd.matrixU() * d * svd.matrixV().transpose();
+  // argmax trace(R^T sum r1 r0^T) over rotations (Kabsch) on the unit rays of the points with use[k].
+  auto fit_rotation = [&](const std::vector<char>& use) {
+    Eigen::Matrix3d cross = Eigen::Matrix3d::Zero();
+    for (size_t k = 0; k < in.size(); ++k) {
+      if (use[k]) cross.noalias() += y1[k].normalized() * y0[k].normalized().transpose();
+    }
+    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(cross, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+    d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+    return Eigen::Matrix3d(svd.matrixU() * d * svd.matrixV().transpose());
+  };
+  // Transfer distances (pixels, view 1); false when a point is rotated by 90 deg or more.
+  auto transfers = [&](const Eigen::Matrix3d& R, std::vector<double>* out) {
+    out->resize(in.size());
+    for (size_t k = 0; k < in.size(); ++k) {
+      const Eigen::Vector3d r = R * y0[k];
+      if (!(r.z() > 0.0)) return false;
+      (*out)[k] = (p_.x1[in[k]] - model.f1 * r.head<2>() / r.z()).norm() * p_.pixel_scale1;
+    }
+    return true;
+  };
+  std::vector<char> use(in.size(), 1);
   std::vector<double> transfer;
-  transfer.reserve(inliers_.sampson.size());
-  for (int i : inliers_.sampson) {
-    const Eigen::Vector3d r = R * Eigen::Vector3d(p_.x0[i].x() / model.f0, p_.x0[i].y() / model.f0, 1.0);
-    if (!(r.z() > 0.0)) return true;  // rotated by 90 deg or more: parallax is not the question
-    transfer.push_back((p_.x1[i] - model.f1 * r.head<2>() / r.z()).norm() * p_.pixel_scale1);
-  }
+  Eigen::Matrix3d R = fit_rotation(use);
+  if (!transfers(R, &transfer)) return true;  // parallax is not the question
+  // Once more without the matches the first rotation transfers worst (beyond twice the median): the epipolar inliers
+  // of a model with an arbitrary epipole include a few mismatches that happen to lie near their epipolar lines, and
+  // with hundreds of pixels of error each they pull a least-squares rotation by pixels (pure rotations then looked
+  // like parallax: 34 of 530 scale-only pairs flagged observable, 1 after the refit; docs/benchmarks.md section 11,
+  // update of 2026-12-06).
+  const double cut = 2.0 * UpperMedian(transfer);
+  for (size_t k = 0; k < in.size(); ++k) use[k] = transfer[k] <= cut;
+  R = fit_rotation(use);
+  if (!transfers(R, &transfer)) return true;
   return UpperMedian(std::move(transfer)) > 3.0 * SampsonNoiseLevel(model, 1.0);
 }
 
@@ -408,11 +430,13 @@ void Engine::LocalOptimize(AffineDepthPose* model, double* score, bool from_poin
       *model = m;
     }
   };
+  const int lo_lm_iterations =
+      p_.mode == CameraMode::kTwoFocal ? o_.lo_max_lm_iterations_two_focal : o_.lo_max_lm_iterations;
   const double mult = o_.lo_threshold_multiplier;
   const MsacWeights relaxed = w_.Relaxed(mult);
   // 1. Least squares on all inliers under the relaxed threshold.
   ComputeInliers(p_, m_init, relaxed, &lo_inliers_);
-  if (Refine(&m_init, lo_inliers_, o_.lo_max_lm_iterations)) consider(m_init);
+  if (Refine(&m_init, lo_inliers_, lo_lm_iterations)) consider(m_init);
   if (o_.num_lo_steps <= 0) return;
   // 2. Inner rounds on subsets of the inliers of m_init.
   InlierSets base;
@@ -427,14 +451,14 @@ void Engine::LocalOptimize(AffineDepthPose* model, double* score, bool from_poin
   for (int r = 0; r < o_.num_lo_steps; ++r) {
     AffineDepthPose m = m_init;
     DrawSubset(base, inner_size, &lo_subset_);
-    if (!Refine(&m, lo_subset_, o_.lo_max_lm_iterations)) continue;
+    if (!Refine(&m, lo_subset_, lo_lm_iterations)) continue;
     consider(m);
     for (int i = 0; i < num_lsq; ++i) {
       const double f = num_lsq > 1 ? static_cast<double>(i) / (num_lsq - 1) : 1.0;
       const MsacWeights wi = w_.Relaxed(mult + (1.0 - mult) * f);  // mult -> 1
       ComputeInliers(p_, m, wi, &lo_inliers_);
       DrawSubset(lo_inliers_, lsq_size, &lo_subset_);
-      if (!Refine(&m, lo_subset_, o_.lo_max_lm_iterations)) break;
+      if (!Refine(&m, lo_subset_, lo_lm_iterations)) break;
       consider(m);
     }
   }

@@ -334,6 +334,7 @@ TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
       {"lo_lsq_sample_size", [](HybridEstimatorOptions* e) { e->lo_lsq_sample_size += 1; }},
       {"lo_starting_iterations", [](HybridEstimatorOptions* e) { e->lo_starting_iterations += 1; }},
       {"lo_max_lm_iterations", [](HybridEstimatorOptions* e) { e->lo_max_lm_iterations += 1; }},
+      {"lo_max_lm_iterations_two_focal", [](HybridEstimatorOptions* e) { e->lo_max_lm_iterations_two_focal += 1; }},
       {"alt_basin_lo_margin", [](HybridEstimatorOptions* e) { e->alt_basin_lo_margin = 0.1; }},
       {"planar_twin_min_support", [](HybridEstimatorOptions* e) { e->planar_twin_min_support = 0.0; }},
       {"final_refinement", [](HybridEstimatorOptions* e) { e->final_refinement = !e->final_refinement; }},

@@ -62,8 +62,8 @@ FallbackOutcome RunSet(const char* preset, CameraMode mode, int num_pairs, uint6
 }
 
 TEST(ScaleOnlyFallback, LowParallaxPairsImprove) {
-  const FallbackOutcome o = RunSet("hard_low_parallax_calibrated", CameraMode::kCalibrated, 40, 2024);
-  ASSERT_GE(o.pairs, 36);
+  const FallbackOutcome o = RunSet("hard_low_parallax_calibrated", CameraMode::kCalibrated, 60, 2024);
+  ASSERT_GE(o.pairs, 54);
   ASSERT_GE(o.replaced, 5) << "too few pairs with undetermined shifts for the comparison";
   EXPECT_GT(o.better, o.worse);
   EXPECT_LT(Median(o.error_on), Median(o.error_off));
