@@ -6,28 +6,24 @@ the sums. A change to the estimator alters its random stream as a change of seed
 where it is larger than the spread of the sweeps within a group (docs/benchmarks.md section 11, update of
 2026-12-06: with 3 seeds per pair, one low-parallax set moved by 7.6 AUC@10 between seed offsets).
 Usage: sweep_groups.py A1,A2[,...] B1,B2[,...]"""
-import glob
-import json
 import os
 import statistics
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sweep_table import load  # noqa: E402  (set, method) -> summary of one sweep
 
-def load(d):
-    out = {}
-    for f in glob.glob(os.path.join(d, "*", "summary.json")):
-        tag = os.path.basename(os.path.dirname(f))
-        for method, v in json.load(open(f))["methods"].items():
-            out[(tag, method)] = 100 * v["auc@10"]
-    return out
+
+def auc10(d):
+    return {key: 100 * v["auc@10"] for key, v in load(d).items()}
 
 
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
-    groups = [[load(d) for d in arg.split(",")] for arg in sys.argv[1:]]
+    groups = [[auc10(d) for d in arg.split(",")] for arg in sys.argv[1:]]
     keys = sorted(set.intersection(*(set(s) for g in groups for s in g)))
-    print(f"| set | method | A mean (sd) | B mean (sd) | B - A |")
+    print("| set | method | A mean (sd) | B mean (sd) | B - A |")
     print("|---|---|---|---|---|")
     sums = [0.0, 0.0]
     for key in keys:
