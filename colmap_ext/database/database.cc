@@ -491,12 +491,12 @@ std::vector<std::array<uint32_t, 2>> Database::ReadMatches(pair_t pair_id) const
   return ReadMatchesBlob(stmt, 0, path_, [&] { return "matches of " + DescribePair(pair_id); });
 }
 
-std::optional<int> Database::ReadColmapNumInliers(pair_t pair_id) const {
+std::optional<std::vector<std::array<uint32_t, 2>>> Database::ReadColmapInlierMatches(pair_t pair_id) const {
   const std::string table = HasBackup() ? kBackupTwoViewTable : "two_view_geometries";
-  Statement stmt(db_, path_, "SELECT rows FROM " + table + " WHERE pair_id = ?");
+  Statement stmt(db_, path_, "SELECT rows, cols, data FROM " + table + " WHERE pair_id = ?");
   stmt.BindInt64(1, static_cast<int64_t>(pair_id));
   if (!stmt.Step()) return std::nullopt;
-  return static_cast<int>(stmt.Int64(0));
+  return ReadMatchesBlob(stmt, 0, path_, [&] { return table + " row of " + DescribePair(pair_id); });
 }
 
 std::optional<TwoViewGeometryRow> Database::ReadTwoViewGeometry(pair_t pair_id) const {

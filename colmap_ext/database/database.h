@@ -141,10 +141,10 @@ class Database {
   // 4.x's migration does. camera1 / camera2 are read where the schema has them. Wrong blob sizes throw naming the
   // pair.
   std::optional<TwoViewGeometryRow> ReadTwoViewGeometry(pair_t pair_id) const;
-  // COLMAP's own verified inlier count of a pair: the `rows` of its two_view_geometries row as COLMAP wrote it (from
-  // the backup once madsfm has written rows), nullopt without a row. COLMAP's matchers write a row for every matched
-  // pair, with 0 rows when geometric verification failed.
-  std::optional<int> ReadColmapNumInliers(pair_t pair_id) const;
+  // COLMAP's own verified inlier matches of a pair: the two_view_geometries row as COLMAP wrote it (from the backup
+  // once madsfm has written rows), nullopt without a row. COLMAP's matchers write a row for every matched pair, with
+  // 0 rows when geometric verification failed. Wrong blob sizes throw naming the pair.
+  std::optional<std::vector<std::array<uint32_t, 2>>> ReadColmapInlierMatches(pair_t pair_id) const;
 
   // RAII transaction: BEGIN IMMEDIATE on construction, COMMIT on Commit(), ROLLBACK if destroyed uncommitted (the
   // destructor never throws). Waits up to the busy timeout for another writer, then throws. Not nestable.

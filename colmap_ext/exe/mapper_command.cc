@@ -49,6 +49,9 @@ int RunMapper(int argc, char** argv) {
   parser.AddDefault("num_threads", &tv.num_threads, "Threads (-1: all cores).");
   parser.AddDefault("reproj_threshold", &tv.estimator.reproj_threshold, "Reprojection inlier threshold, px.");
   parser.AddDefault("epipolar_threshold", &tv.estimator.epipolar_threshold, "Sampson inlier threshold, px.");
+  parser.AddDefault("guided_sampling_fraction", &tv.estimator.guided_sampling_fraction,
+                    "Share of the minimal samples drawn from the matches COLMAP's geometric verification kept (the\n"
+                    "rest from all raw matches; all are scored). 0: uniform sampling only.");
   parser.AddDefault("min_tri_angle", &o.seed.min_tri_angle_deg,
                     "Minimum median triangulation angle of the seed pair, deg (no pair: no seed).");
   parser.AddDefault("min_depth_tri_angle", &o.seed.min_depth_tri_angle_deg,

@@ -50,6 +50,9 @@ int RunTwoViewEstimator(int argc, char** argv) {
   parser.AddDefault("min_iterations_two_focal_points", &o.estimator.min_iterations_two_focal_points,
                     "One camera per image and no depth on a pair (7-point samples only): at least this many.");
   parser.AddDefault("max_iterations", &o.estimator.max_iterations, "Maximum RANSAC iterations.");
+  parser.AddDefault("guided_sampling_fraction", &o.estimator.guided_sampling_fraction,
+                    "Share of the minimal samples drawn from the matches COLMAP's geometric verification kept (the\n"
+                    "rest from all raw matches; all are scored). 0: uniform sampling only.");
   int seed = 0;
   parser.AddDefault("seed", &seed, "Random seed (results do not depend on the thread count).");
   if (!parser.Parse(argc, argv, 2)) return EXIT_FAILURE;

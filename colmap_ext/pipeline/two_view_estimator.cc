@@ -53,6 +53,7 @@ struct PairJob {
   CameraMode mode = CameraMode::kCalibrated;
   std::vector<std::array<uint32_t, 2>> matches;
   std::optional<int> colmap_num_inliers;  // COLMAP's own verified inlier count (nullopt: no row)
+  std::vector<int> colmap_inliers;        // indices into `matches` of COLMAP's verified inlier matches (sorted)
   // Results
   HybridEstimate estimate;
   bool point_fallback = false;
@@ -65,6 +66,21 @@ uint64_t SplitMix(uint64_t x) {
   x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
   x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
   return x ^ (x >> 31);
+}
+
+// The indices into `matches` of the matches that `subset` holds too (sorted; a match listed twice in `matches` gives
+// both indices).
+std::vector<int> MatchIndices(const std::vector<std::array<uint32_t, 2>>& matches,
+                              const std::vector<std::array<uint32_t, 2>>& subset) {
+  auto key = [](const std::array<uint32_t, 2>& m) { return (static_cast<uint64_t>(m[0]) << 32) | m[1]; };
+  std::vector<uint64_t> keys(subset.size());
+  for (size_t k = 0; k < subset.size(); ++k) keys[k] = key(subset[k]);
+  std::sort(keys.begin(), keys.end());
+  std::vector<int> indices;
+  for (size_t i = 0; i < matches.size(); ++i) {
+    if (std::binary_search(keys.begin(), keys.end(), key(matches[i]))) indices.push_back(static_cast<int>(i));
+  }
+  return indices;
 }
 
 CameraMode PairMode(const std::string& requested, const colmap::Camera& c1, const colmap::Camera& c2) {
@@ -106,6 +122,7 @@ void EstimatePair(const TwoViewEstimatorOptions& options, PairJob* job) {
     p.max_focal = 10.0 * dim;
   }
   p.IndexDepths();
+  p.guided = job->colmap_inliers;  // COLMAP's verified matches guide the sampling (guided_sampling_fraction)
   HybridEstimatorOptions eo = options.estimator;
   eo.seed = SplitMix(options.estimator.seed ^ SplitMix(job->pair_id));
   const int k_depth = (job->mode == CameraMode::kCalibrated || !eo.estimate_shift) ? 3 : 4;
@@ -291,7 +308,8 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version changes with the estimator's results ("madsfm-13": 6 LM
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-14": COLMAP's
+  // verified matches guide the sampling (guided_sampling_fraction); "madsfm-13": 6 LM
   // iterations per local-optimisation fit outside two focal (lo_max_lm_iterations); "madsfm-12": the planar
   // twin of the best model competes (planar_twin_min_support); "madsfm-11": a shared
   // focal the epipolar evidence rejects by 5 of its deviations up to 5% (epipolar_focal_wide_sigma); "madsfm-10":
@@ -301,15 +319,16 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
   // deviations stored, the robust last refinement; "madsfm-5": more iterations for two-focal point-only searches;
   // "madsfm-4": the epipolar focal lengths where they are precise; "madsfm-3": other basins' minimal models
   // optimised, depth-less results searched again), so pairs done by an older madsfm are estimated again.
-  s << "madsfm-13;mode=" << o.camera_mode << ";depth=" << depth
+  s << "madsfm-14;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";cheir="
-    << e.sampson_cheirality << "/" << e.cheirality_min_parallax << ";it=" << e.min_iterations << "/" << e.min_iterations_two_focal_points << "-"
-    << e.max_iterations << ";conf=" << e.confidence << ";lo=" << e.num_lo_steps << "/" << e.num_lo_lsq_steps << "/"
+    << e.sampson_cheirality << "/" << e.cheirality_min_parallax << ";it=" << e.min_iterations << "/"
+    << e.min_iterations_two_focal_points << "-" << e.max_iterations << ";conf=" << e.confidence
+    << ";guided=" << e.guided_sampling_fraction << ";lo=" << e.num_lo_steps << "/" << e.num_lo_lsq_steps << "/"
     << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/"
-    << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.lo_max_lm_iterations_two_focal << "/" << e.alt_basin_lo_margin << "/"
-    << e.planar_twin_min_support
+    << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.lo_max_lm_iterations_two_focal << "/"
+    << e.alt_basin_lo_margin << "/" << e.planar_twin_min_support
     << ";final=" << e.final_refinement << "/" << e.final_max_lm_iterations << "/" << e.final_reprojection_weight
     << "/" << e.epipolar_focal_max_sigma << "/" << e.epipolar_focal_wide_sigma << "/" << e.final_cauchy_ratio
     << ";check=" << e.epipolar_check_ratio << "/" << e.retry_depth_less << "/" << e.scale_only_fallback
@@ -584,7 +603,11 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
       job.image2 = &images[i2];
       job.mode = PairMode(options.camera_mode, *job.image1->camera, *job.image2->camera);
       job.matches = db->ReadMatches(job.pair_id);
-      job.colmap_num_inliers = db->ReadColmapNumInliers(job.pair_id);
+      const auto colmap_inliers = db->ReadColmapInlierMatches(job.pair_id);
+      if (colmap_inliers) {
+        job.colmap_num_inliers = static_cast<int>(colmap_inliers->size());
+        job.colmap_inliers = MatchIndices(job.matches, *colmap_inliers);
+      }
     }
     const auto t1 = Clock::now();
     summary.read_seconds += Seconds(t0, t1);
@@ -603,6 +626,7 @@ TwoViewEstimatorSummary RunTwoViewEstimatorImpl(const TwoViewEstimatorOptions& o
     sink->WriteBatch(jobs, fingerprint);
     for (const PairJob& job : jobs) {
       summary.estimate_cpu_seconds += job.estimate.runtime_ms / 1000.0;
+      summary.num_iterations += job.estimate.iterations;
       if (job.ok) {
         ++summary.num_estimated;
         summary.num_point_fallback += job.point_fallback;

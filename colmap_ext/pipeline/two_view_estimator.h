@@ -2,6 +2,7 @@
 // written back as two-view geometries (issue 5). Command line: colmap_ext/exe/two_view_estimator_command.h.
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <set>
 #include <string>
@@ -46,6 +47,7 @@ struct TwoViewEstimatorSummary {
   int num_images_with_depth = 0, num_images = 0;
   double read_seconds = 0, estimate_seconds = 0, write_seconds = 0, total_seconds = 0;
   double estimate_cpu_seconds = 0;  // summed per-pair estimator time
+  int64_t num_iterations = 0;       // RANSAC iterations summed over the estimated pairs (all searches)
 };
 
 // Runs the estimator; throws std::runtime_error / std::invalid_argument with a clear message on bad input.

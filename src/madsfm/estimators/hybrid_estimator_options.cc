@@ -22,6 +22,7 @@ void HybridEstimatorOptions::Check() const {
   Require(max_iterations >= 1, "max_iterations must be >= 1");
   Require(max_iterations >= min_iterations, "max_iterations must be >= min_iterations");
   Require(confidence > 0 && confidence < 1, "confidence must be in (0, 1)");
+  Require(guided_sampling_fraction >= 0 && guided_sampling_fraction < 1, "guided_sampling_fraction must be in [0, 1)");
   Require(num_lo_steps >= 0, "num_lo_steps must be >= 0");
   Require(lo_max_lm_iterations >= 0, "lo_max_lm_iterations must be >= 0");
   Require(lo_max_lm_iterations_two_focal >= 0, "lo_max_lm_iterations_two_focal must be >= 0");

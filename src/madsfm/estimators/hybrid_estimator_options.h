@@ -59,6 +59,13 @@ struct HybridEstimatorOptions {
   int min_iterations_two_focal_points = 1000;
   int max_iterations = 10000;
   double confidence = 0.9999;
+  // Problems with a guide (RelposeProblem::guided, e.g. the matches COLMAP's geometric verification kept): this
+  // fraction of the minimal samples is drawn from the guided correspondences, the rest from all of them, and the
+  // stopping criterion counts both kinds of draw with their own inlier ratios. Where the guide holds mostly inliers
+  // the search stops after min_iterations however many outliers the raw matches carry; where it does not, its
+  // samples fail and the uniform ones carry the search (at most 1 / (1 - fraction) times the iterations). 0:
+  // uniform sampling only. Without a guide the option has no effect (docs/benchmarks.md section 9).
+  double guided_sampling_fraction = 0.9;
 
   // Local optimisation (Lebeda et al. 2012, LO+ as in RansacLib): when a hypothesis beats the best so far, a
   // joint least-squares fit over its inliers under thresholds relaxed by lo_threshold_multiplier (on the squared

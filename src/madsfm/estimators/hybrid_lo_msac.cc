@@ -6,6 +6,8 @@
 #include <cmath>
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "madsfm/estimators/hybrid_sampling.h"
@@ -51,6 +53,31 @@ InlierRatios ComputeRatios(const RelposeProblem& p, const InlierSets& in, const 
   return r;
 }
 
+// The same ratios within the guided correspondences (mask over all of them; num_guided of them, num_guided_depth
+// with both priors).
+InlierRatios ComputeGuidedRatios(const InlierSets& in, const MsacWeights& w, const std::vector<char>& mask,
+                                 int num_guided, int num_guided_depth) {
+  InlierRatios r;
+  if (num_guided_depth > 0 && w.use_reprojection) {
+    size_t a = 0, b = 0;
+    int both = 0;
+    while (a < in.reproj0.size() && b < in.reproj1.size()) {
+      if (in.reproj0[a] < in.reproj1[b]) ++a;
+      else if (in.reproj0[a] > in.reproj1[b]) ++b;
+      else { both += mask[in.reproj0[a]]; ++a; ++b; }
+    }
+    r.both_depths = static_cast<double>(both) / num_guided_depth;
+  }
+  if (num_guided > 0 && w.use_sampson) {
+    int c = 0;
+    for (int i : in.sampson) c += mask[i];
+    r.sampson = static_cast<double>(c) / num_guided;
+  }
+  if (!w.use_sampson) r.sampson = r.both_depths;
+  if (!w.use_reprojection) r.both_depths = r.sampson;
+  return r;
+}
+
 // The element at index size / 2 of the sorted values (the upper median); v must not be empty.
 double UpperMedian(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
@@ -90,6 +117,13 @@ class Engine {
       : p_(p), o_(o), w_(MsacWeights::FromOptions(o)), solvers_(p, o.estimate_shift), sampler_(o.seed) {
     median_prior0_ = MedianPrior(p.d0, p.with_depth0);
     median_prior1_ = MedianPrior(p.d1, p.with_depth1);
+    if (o.guided_sampling_fraction > 0.0 && !p.guided.empty()) {
+      guided_mask_.assign(p.size(), 0);
+      for (int i : p.guided) guided_mask_[i] = 1;
+      for (int i : p.with_both_depths) {
+        if (guided_mask_[i]) guided_depth_.push_back(i);
+      }
+    }
   }
 
   HybridEstimate Run();
@@ -122,6 +156,9 @@ class Engine {
   double median_prior0_ = 1.0, median_prior1_ = 1.0;  // of the valid priors (the shift bounds' reference)
   std::vector<int> pool_;
   int num_lo_ = 0;
+  // Guided sampling (RelposeProblem::guided): which correspondences are guided, and those of them with both priors.
+  std::vector<char> guided_mask_;
+  std::vector<int> guided_depth_;
 };
 
 RelposeRefinerOptions Engine::RefinerOptions(int max_iterations) const {
@@ -572,13 +609,35 @@ HybridEstimate Engine::Run() {
   bool lo_started = false;
   // The best score of a minimal model of another basin that was optimised (see alt_basin_lo_margin).
   double alt_min_score = std::numeric_limits<double>::infinity();
+  // Guided sampling (RelposeProblem::guided): a fraction g of the draws comes from the guided correspondences, each
+  // kind of draw picks its solver by its own inlier ratios, and the stopping criterion counts all four
+  // (pool, solver) combinations with their probabilities.
+  const bool guided_depth_ok = depth_ok && static_cast<int>(guided_depth_.size()) >= k_depth;
+  const bool guided_point_ok =
+      point_ok && !guided_mask_.empty() && static_cast<int>(p_.guided.size()) >= k_point;
+  const bool guided = guided_depth_ok || guided_point_ok;
+  const double g = guided ? o_.guided_sampling_fraction : 0.0;
+  InlierRatios guided_ratios;
+  auto depth_solver_probability = [](double P_d, double P_p, bool d_ok, bool p_ok) {
+    return d_ok ? (p_ok ? FirstSolverProbability(P_d, P_p) : 1.0) : 0.0;
+  };
   auto update_termination = [&]() {
     ComputeInliers(p_, best, w_, &inliers_);
     ratios = ComputeRatios(p_, inliers_, w_);
     const double P_d = AllInlierProbability(ratios.both_depths, k_depth);
     const double P_p = AllInlierProbability(ratios.sampson, k_point);
-    const double qd = depth_ok ? (point_ok ? FirstSolverProbability(P_d, P_p) : 1.0) : 0.0;
-    required = RequiredIterations({qd, 1.0 - qd}, {P_d, P_p}, o_.confidence, o_.max_iterations);
+    const double qd = depth_solver_probability(P_d, P_p, depth_ok, point_ok);
+    if (!guided) {
+      required = RequiredIterations({qd, 1.0 - qd}, {P_d, P_p}, o_.confidence, o_.max_iterations);
+      return;
+    }
+    guided_ratios = ComputeGuidedRatios(inliers_, w_, guided_mask_, static_cast<int>(p_.guided.size()),
+                                        static_cast<int>(guided_depth_.size()));
+    const double gP_d = AllInlierProbability(guided_ratios.both_depths, k_depth);
+    const double gP_p = AllInlierProbability(guided_ratios.sampson, k_point);
+    const double gqd = depth_solver_probability(gP_d, gP_p, guided_depth_ok, guided_point_ok);
+    required = RequiredIterations({(1.0 - g) * qd, (1.0 - g) * (1.0 - qd), g * gqd, g * (1.0 - gqd)},
+                                  {P_d, P_p, gP_d, gP_p}, o_.confidence, o_.max_iterations);
   };
   // The best model of another basin (rotation or translation direction apart, see DistinctModels): two basins can
   // score within rounding of each other after local optimisation (far-point scenes with a bas-relief-like
@@ -627,16 +686,19 @@ HybridEstimate Engine::Run() {
       optimize_pending_alt();
       update_termination();
     }
-    const double P_depth = AllInlierProbability(ratios.both_depths, k_depth);
-    const double P_point = AllInlierProbability(ratios.sampson, k_point);
-    double q_depth = depth_ok ? (point_ok ? FirstSolverProbability(P_depth, P_point) : 1.0) : 0.0;
+    const bool from_guide = guided && sampler_.Uniform() < g;
+    const InlierRatios& r = from_guide ? guided_ratios : ratios;
+    const double P_depth = AllInlierProbability(r.both_depths, k_depth);
+    const double P_point = AllInlierProbability(r.sampson, k_point);
+    const double q_depth = from_guide ? depth_solver_probability(P_depth, P_point, guided_depth_ok, guided_point_ok)
+                                      : depth_solver_probability(P_depth, P_point, depth_ok, point_ok);
     const MinimalSolverKind kind =
         sampler_.Uniform() < q_depth ? MinimalSolverKind::kDepth : MinimalSolverKind::kPoint;
     if (kind == MinimalSolverKind::kDepth) {
-      sampler_.Sample(p_.with_both_depths, k_depth, sample);
+      sampler_.Sample(from_guide ? guided_depth_ : p_.with_both_depths, k_depth, sample);
       ++result.num_depth_samples;
     } else {
-      sampler_.Sample(all, k_point, sample);
+      sampler_.Sample(from_guide ? p_.guided : all, k_point, sample);
       ++result.num_point_samples;
     }
     solvers_.Solve(kind, sample, &models);
@@ -807,6 +869,13 @@ void AddSearchWork(const HybridEstimate& other, HybridEstimate* total) {
 
 HybridEstimate EstimateHybridRelpose(const RelposeProblem& problem, const HybridEstimatorOptions& options) {
   options.Check();
+  for (size_t k = 0; k < problem.guided.size(); ++k) {
+    if (problem.guided[k] < 0 || problem.guided[k] >= problem.size() ||
+        (k > 0 && problem.guided[k] <= problem.guided[k - 1])) {
+      throw std::invalid_argument("RelposeProblem::guided must hold sorted, distinct correspondence indices below " +
+                                  std::to_string(problem.size()));
+    }
+  }
   const auto start = std::chrono::steady_clock::now();
   Engine engine(problem, options);
   HybridEstimate result = engine.Run();

@@ -31,6 +31,10 @@ struct RelposeProblem {
   double min_focal = 0.0, max_focal = 1e12;
   // Indices of correspondences with a valid prior in view 0 / view 1 / both.
   std::vector<int> with_depth0, with_depth1, with_both_depths;
+  // Optional guide for the sampler: correspondences an earlier verification found consistent (COLMAP's inlier
+  // matches of the pair), sorted and distinct. Minimal samples come from them with probability
+  // HybridEstimatorOptions::guided_sampling_fraction; every correspondence is still scored. Empty: uniform sampling.
+  std::vector<int> guided;
 
   int size() const { return static_cast<int>(x0.size()); }
   // Fills the index lists from d0 / d1 (valid = finite and > 0; invalid values are set to NaN).

@@ -466,10 +466,10 @@ void ExpectReadsEverything(const Database& db, const Expected& e) {
     const std::optional<TwoViewGeometryRow> read = db.ReadTwoViewGeometry(pair_id);
     ASSERT_TRUE(read.has_value());
     ExpectSameRow(*read, row);
-    EXPECT_EQ(db.ReadColmapNumInliers(pair_id), std::optional<int>(static_cast<int>(row.inlier_matches.size())));
+    EXPECT_EQ(db.ReadColmapInlierMatches(pair_id), std::optional(row.inlier_matches));
   }
   EXPECT_FALSE(db.ReadTwoViewGeometry(ImagePairToPairId(2, 3)).has_value());
-  EXPECT_FALSE(db.ReadColmapNumInliers(ImagePairToPairId(2, 3)).has_value());
+  EXPECT_FALSE(db.ReadColmapInlierMatches(ImagePairToPairId(2, 3)).has_value());
 }
 
 std::string IntegrityCheck(const std::string& path) { return RawDb(path).QueryText("PRAGMA integrity_check"); }
@@ -633,10 +633,9 @@ void RunWriteRestoreScenario(const std::string& path, const Expected& e) {
     for (const auto& row : rows) {
       const auto it = e.two_view.find(row.pair_id);
       if (it == e.two_view.end()) {
-        EXPECT_FALSE(db->ReadColmapNumInliers(row.pair_id).has_value()) << row.pair_id;
+        EXPECT_FALSE(db->ReadColmapInlierMatches(row.pair_id).has_value()) << row.pair_id;
       } else {
-        const int colmap_inliers = static_cast<int>(it->second.inlier_matches.size());
-        EXPECT_EQ(db->ReadColmapNumInliers(row.pair_id), std::optional<int>(colmap_inliers));
+        EXPECT_EQ(db->ReadColmapInlierMatches(row.pair_id), std::optional(it->second.inlier_matches)) << row.pair_id;
       }
     }
     // A pair with a geometry but no matches row got one, holding the inlier matches.
@@ -813,15 +812,17 @@ TEST_F(Colmap38Database, ReadsEverythingBackExactly) {
   ExpectReadsEverything(*db, e);
 }
 
-// two_view_estimator asks for COLMAP's own verification result of a pair; once madsfm has written the pair, the
-// answer comes from the backup, not from madsfm's row.
-TEST_F(Colmap38Database, ColmapNumInliersComeFromTheBackup) {
+// two_view_estimator asks for COLMAP's own verification result of a pair (its inlier matches guide the sampling);
+// once madsfm has written the pair, the answer comes from the backup, not from madsfm's row.
+TEST_F(Colmap38Database, ColmapInlierMatchesComeFromTheBackup) {
   const Expected e = Populate(path_, /*exotic_cameras=*/false);
   const pair_t p13 = ImagePairToPairId(1, 3), p34 = ImagePairToPairId(3, 4), p23 = ImagePairToPairId(2, 3);
   auto db = Database::Open(path_);
-  EXPECT_EQ(db->ReadColmapNumInliers(p13), std::optional<int>(40));
-  EXPECT_EQ(db->ReadColmapNumInliers(p34), std::optional<int>(0));  // verification failed: a row with 0 rows
-  EXPECT_FALSE(db->ReadColmapNumInliers(p23).has_value());          // no row at all
+  const auto colmap13 = db->ReadColmapInlierMatches(p13);
+  ASSERT_TRUE(colmap13.has_value());
+  EXPECT_EQ(colmap13->size(), 40u);
+  EXPECT_EQ(db->ReadColmapInlierMatches(p34)->size(), 0u);  // verification failed: a row with 0 rows
+  EXPECT_FALSE(db->ReadColmapInlierMatches(p23).has_value());  // no row at all
   TwoViewGeometryRow row;
   row.pair_id = p13;
   row.inlier_matches.assign(e.matches.at(p13).begin(), e.matches.at(p13).begin() + 5);
@@ -833,7 +834,7 @@ TEST_F(Colmap38Database, ColmapNumInliersComeFromTheBackup) {
     transaction.Commit();
   }
   EXPECT_EQ(db->ReadTwoViewGeometry(p13)->inlier_matches.size(), 5u);
-  EXPECT_EQ(db->ReadColmapNumInliers(p13), std::optional<int>(40));
+  EXPECT_EQ(db->ReadColmapInlierMatches(p13), colmap13);
 }
 
 TEST_F(Colmap38Database, WriteBackupRestoreRoundTrip) {

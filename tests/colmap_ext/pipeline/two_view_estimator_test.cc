@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -36,7 +37,7 @@ struct Project {
 };
 
 Project MakeProject(const std::string& name, int num_pairs, bool calibrated,
-                    colmap::ColmapRelease release = colmap::ColmapRelease::k3_8) {
+                    colmap::ColmapRelease release = colmap::ColmapRelease::k3_8, double outlier_ratio = 0.3) {
   Project p;
   p.scratch = std::make_shared<testing::TempDir>("tve_" + name);
   p.dir = p.scratch->Sub("project");
@@ -45,7 +46,7 @@ Project MakeProject(const std::string& name, int num_pairs, bool calibrated,
   o.preset = "indoor_shared_focal";
   o.num_pairs = num_pairs;
   o.min_num_matches = o.max_num_matches = 300;
-  o.outlier_ratio = 0.3;
+  o.outlier_ratio = outlier_ratio;
   o.calibrated = calibrated;
   o.seed = 7;
   o.keep_pairs = true;
@@ -424,6 +425,59 @@ TEST(TwoViewEstimator, PointOnlyPairsColmapRejectedAreNotSearched) {
   EXPECT_EQ(with_depth.num_not_verified, 0);
   EXPECT_EQ(with_depth.num_estimated, 3);
   EXPECT_EQ(with_depth.num_point_fallback, 0);
+}
+
+// COLMAP's verified inlier matches guide the sampling: with 70% outliers among the raw matches and a verification
+// that kept the true inliers (plus a few outliers), the search needs far fewer iterations and is as accurate.
+TEST(TwoViewEstimator, ColmapsVerifiedMatchesGuideTheSampling) {
+  const Project p = MakeProject("guided", 6, false, colmap::ColmapRelease::k3_8, 0.7);
+  // COLMAP's rows, as its matcher writes them (a hex blob of uint32 index pairs, little-endian).
+  testing::ExecSql(p.db, "DELETE FROM two_view_geometries");
+  for (int k = 0; k < 6; ++k) {
+    const std::vector<uint8_t>& is_inlier = p.pairs[k].is_inlier;
+    std::string hex;
+    int rows = 0, outliers = 0;
+    char byte[3];
+    for (uint32_t i = 0; i < is_inlier.size(); ++i) {
+      if (!is_inlier[i] && outliers++ % 20 != 0) continue;
+      for (int twice = 0; twice < 2; ++twice) {
+        for (int b = 0; b < 4; ++b) {
+          std::snprintf(byte, sizeof(byte), "%02X", (i >> (8 * b)) & 0xFF);
+          hex += byte;
+        }
+      }
+      ++rows;
+    }
+    testing::ExecSql(p.db, "INSERT INTO two_view_geometries (pair_id, rows, cols, data, config) VALUES (" +
+                               std::to_string(colmap::ImagePairToPairId(2 * k + 1, 2 * k + 2)) + ", " +
+                               std::to_string(rows) + ", 2, X'" + hex + "', 3)");
+  }
+  auto run = [&](double fraction, int* accurate) {
+    const testing::TempDir copy("tve_guided_copy");
+    const std::string db_path = copy.Sub("database.db");
+    fs::copy_file(p.db, db_path);
+    TwoViewEstimatorOptions o = Options(p);
+    o.database_path = db_path;
+    o.estimator.guided_sampling_fraction = fraction;
+    const TwoViewEstimatorSummary s = RunTwoViewEstimatorImpl(o);
+    EXPECT_EQ(s.num_estimated, 6);
+    auto db = colmap::Database::Open(db_path, true);
+    *accurate = 0;
+    for (int k = 0; k < 6; ++k) {
+      const auto row = db->ReadMadsfmPair(colmap::ImagePairToPairId(2 * k + 1, 2 * k + 2));
+      const double rot = RotationErrorDeg(row->R, p.pairs[k].pair.T_0to1->topLeftCorner<3, 3>());
+      *accurate += rot < 1.0 && std::abs(row->focal1 / p.pairs[k].focal0 - 1.0) < 0.05;
+    }
+    return s.num_iterations;
+  };
+  int accurate_uniform = 0, accurate_guided = 0;
+  const int64_t uniform = run(0.0, &accurate_uniform);
+  const int64_t guided = run(0.9, &accurate_guided);
+  std::printf("70%% outliers, 6 pairs: %lld iterations uniform (%d accurate), %lld guided (%d accurate)\n",
+              static_cast<long long>(uniform), accurate_uniform, static_cast<long long>(guided), accurate_guided);
+  EXPECT_LT(2 * guided, uniform);
+  EXPECT_GE(accurate_guided, accurate_uniform);
+  EXPECT_GE(accurate_guided, 5);
 }
 
 // Without depth evidence (every pair point-only) focal_estimator keeps COLMAP's cameras as they are.
