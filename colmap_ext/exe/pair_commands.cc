@@ -68,6 +68,9 @@ struct EstimatorFlags {
     parser->AddDefault("alt_basin_lo_margin", &options.alt_basin_lo_margin,
                        "A minimal model of another basin within this fraction of the best minimal score is locally "
                        "optimised too (0: off).");
+    parser->AddDefault("lo_skip_same_basin", &options.lo_skip_same_basin,
+                       "A new best minimal model in the optimised best's basin that scores no better is not locally "
+                       "optimised (1) or is (0).");
     parser->AddDefault("planar_twin_min_support", &options.planar_twin_min_support,
                        "Where this fraction of the epipolar inliers fit one homography, the other decomposition of it "
                        "(the planar twin) competes with the result (0: off).");

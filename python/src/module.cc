@@ -29,11 +29,11 @@ namespace {
   X(sampson_cheirality) X(cheirality_min_parallax) X(min_iterations) X(min_iterations_two_focal_points)           \
   X(max_iterations) X(confidence) X(guided_sampling_fraction) X(num_lo_steps) X(num_lo_lsq_steps)                 \
   X(lo_threshold_multiplier) X(lo_inner_sample_multiplier) X(lo_lsq_sample_size) X(lo_starting_iterations)        \
-  X(alt_basin_lo_margin) X(planar_twin_min_support) X(lo_max_lm_iterations) X(lo_max_lm_iterations_two_focal)     \
-  X(final_refinement) X(final_max_lm_iterations) X(final_reprojection_weight) X(epipolar_focal_max_sigma)         \
-  X(epipolar_focal_wide_sigma) X(final_cauchy_ratio) X(epipolar_check_ratio) X(retry_depth_less)                  \
-  X(scale_only_fallback) X(max_shift_ratio) X(final_depth_fit) X(depth_fit_regression) X(max_depth_sigma)         \
-  X(seed)
+  X(alt_basin_lo_margin) X(lo_skip_same_basin) X(planar_twin_min_support) X(lo_max_lm_iterations)                 \
+  X(lo_max_lm_iterations_two_focal) X(final_refinement) X(final_max_lm_iterations)                                \
+  X(final_reprojection_weight) X(epipolar_focal_max_sigma) X(epipolar_focal_wide_sigma) X(final_cauchy_ratio)     \
+  X(epipolar_check_ratio) X(retry_depth_less) X(scale_only_fallback) X(max_shift_ratio) X(final_depth_fit)        \
+  X(depth_fit_regression) X(max_depth_sigma) X(seed)
 
 const char* SolverChoiceName(SolverChoice c) {
   switch (c) {

@@ -85,6 +85,12 @@ struct HybridEstimatorOptions {
   // than every such model before (0: off). Minimal models of the right basin can score a few percent worse than a
   // lucky one of a wrong basin (far points, noisy samples) and would otherwise never be optimised.
   double alt_basin_lo_margin = 0.05;
+  // A new best minimal model is not locally optimised when it scores no better than the optimised best model and lies
+  // in its basin (not DistinctModels): its optimisation would end where the best already is. Over 20 synthetic sets x
+  // 10 seeds x 3 seed offsets it changed AUC@10 by -0.08 summed over the sets (every set within its seed spread) and
+  // cut the median time per pair by 8% (docs/benchmarks.md section 11, update of 2026-12-06, morning). false: every
+  // new best minimal model is optimised (LO+).
+  bool lo_skip_same_basin = true;
   // Point method (Sampson-only score), after the search: where at least this fraction of the best model's epipolar
   // inliers fit one plane-induced homography (within 2x epipolar_threshold) seen with a baseline of at least 5% of the
   // plane's distance, the other decomposition of that homography (the planar twin: both explain every point of the

@@ -753,7 +753,10 @@ HybridEstimate Engine::Run() {
     best_min = models[local_best];
     best_min_model_score = local_score;
     best_min_from_points = kind == MinimalSolverKind::kPoint;
-    if (lo_started) {
+    if (lo_started && o_.lo_skip_same_basin && best_min_model_score >= best_score && !DistinctModels(best, best_min)) {
+      // The optimised best's basin, and no better than it: optimising it would end where the best is
+      // (lo_skip_same_basin).
+    } else if (lo_started) {
       optimize_and_compete(best_min, best_min_model_score, best_min_from_points);
     } else {
       compete(best_min, best_min_model_score);

@@ -328,6 +328,7 @@ TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
       {"max_iterations", [](HybridEstimatorOptions* e) { e->max_iterations += 1; }},
       {"confidence", [](HybridEstimatorOptions* e) { e->confidence = 0.99; }},
       {"guided_sampling_fraction", [](HybridEstimatorOptions* e) { e->guided_sampling_fraction = 0.5; }},
+      {"lo_skip_same_basin", [](HybridEstimatorOptions* e) { e->lo_skip_same_basin = false; }},
       {"num_lo_steps", [](HybridEstimatorOptions* e) { e->num_lo_steps += 1; }},
       {"num_lo_lsq_steps", [](HybridEstimatorOptions* e) { e->num_lo_lsq_steps += 1; }},
       {"lo_threshold_multiplier", [](HybridEstimatorOptions* e) { e->lo_threshold_multiplier += 1; }},

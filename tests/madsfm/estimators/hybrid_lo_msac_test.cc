@@ -121,6 +121,36 @@ TEST_P(HybridEstimatorTest, SameSeedGivesSameResult) {
   EXPECT_EQ(a.inliers_sampson, b.inliers_sampson);
 }
 
+// lo_skip_same_basin: new best minimal models in the optimised best's basin that score no better are not optimised;
+// fewer local optimisations, the same recovery rate.
+TEST_P(HybridEstimatorTest, SkippingSameBasinLocalOptimisationsKeepsTheAccuracy) {
+  std::mt19937 rng(25);
+  const int kTrials = 30;
+  int recovered[2] = {0, 0}, num_lo[2] = {0, 0};
+  for (int trial = 0; trial < kTrials; ++trial) {
+    testing::SolverInstance inst;
+    std::vector<char> is_inlier;
+    RelposeProblem p = MakeProblemWithOutliers(rng, GetParam(), 100, 0.5, &inst, &is_inlier);
+    p.min_focal = 50;
+    p.max_focal = 1e5;
+    for (int skip = 0; skip < 2; ++skip) {
+      HybridEstimatorOptions o;
+      o.seed = trial;
+      o.reproj_threshold = 2.0;
+      o.epipolar_threshold = 1.0;
+      o.lo_skip_same_basin = skip == 1;
+      const HybridEstimate est = EstimateHybridRelpose(p, o);
+      recovered[skip] += est.success && testing::ModelError(est.model, inst) < 1e-6;
+      num_lo[skip] += est.num_lo;
+    }
+  }
+  std::printf("lo_skip_same_basin (%d): recovered %d/%d with every LO, %d/%d skipping; local optimisations %d vs %d\n",
+              static_cast<int>(GetParam()), recovered[0], kTrials, recovered[1], kTrials, num_lo[0], num_lo[1]);
+  EXPECT_GE(recovered[1], kTrials * 95 / 100);
+  EXPECT_GE(recovered[1] + 1, recovered[0]);
+  EXPECT_LT(num_lo[1], num_lo[0]);
+}
+
 INSTANTIATE_TEST_SUITE_P(Modes, HybridEstimatorTest,
                          ::testing::Values(CameraSetup::kCalibrated, CameraSetup::kSharedFocal, CameraSetup::kTwoFocal));
 
