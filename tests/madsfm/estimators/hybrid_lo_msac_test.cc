@@ -51,6 +51,21 @@ RelposeProblem MakeProblemWithOutliers(std::mt19937& rng, CameraSetup setup, int
   return testing::ProblemFromInstance(*inst, setup);
 }
 
+// Focal bounds for the instances of MakeProblemWithOutliers (focal modes work in pixels).
+void BoundFocal(RelposeProblem* p) {
+  p->min_focal = 50;
+  p->max_focal = 1e5;
+}
+
+// Options for the noise-free instances: tight thresholds (2 px reprojection, 1 px Sampson) and the given seed.
+HybridEstimatorOptions NoiseFreeOptions(int seed) {
+  HybridEstimatorOptions o;
+  o.seed = seed;
+  o.reproj_threshold = 2.0;
+  o.epipolar_threshold = 1.0;
+  return o;
+}
+
 class HybridEstimatorTest : public ::testing::TestWithParam<CameraSetup> {};
 
 TEST_P(HybridEstimatorTest, RecoversGroundTruthWithHalfOutliers) {
@@ -61,12 +76,8 @@ TEST_P(HybridEstimatorTest, RecoversGroundTruthWithHalfOutliers) {
     testing::SolverInstance inst;
     std::vector<char> is_inlier;
     RelposeProblem p = MakeProblemWithOutliers(rng, GetParam(), 100, 0.5, &inst, &is_inlier);
-    p.min_focal = 50;
-    p.max_focal = 1e5;
-    HybridEstimatorOptions o;
-    o.seed = trial;
-    o.reproj_threshold = 2.0;
-    o.epipolar_threshold = 1.0;
+    BoundFocal(&p);
+    HybridEstimatorOptions o = NoiseFreeOptions(trial);
     const HybridEstimate est = EstimateHybridRelpose(p, o);
     if (!est.success) continue;
     recovered += testing::ModelError(est.model, inst) < 1e-6;
@@ -88,8 +99,7 @@ TEST_P(HybridEstimatorTest, PointOnlyBaselineRecoversPoseWithHalfOutliers) {
     testing::SolverInstance inst;
     std::vector<char> is_inlier;
     RelposeProblem p = MakeProblemWithOutliers(rng, GetParam(), 100, 0.5, &inst, &is_inlier);
-    p.min_focal = 50;
-    p.max_focal = 1e5;
+    BoundFocal(&p);
     HybridEstimatorOptions o;
     o.seed = trial;
     o.solvers = SolverChoice::kPointsOnly;
@@ -131,13 +141,9 @@ TEST_P(HybridEstimatorTest, SkippingSameBasinLocalOptimisationsKeepsTheAccuracy)
     testing::SolverInstance inst;
     std::vector<char> is_inlier;
     RelposeProblem p = MakeProblemWithOutliers(rng, GetParam(), 100, 0.5, &inst, &is_inlier);
-    p.min_focal = 50;
-    p.max_focal = 1e5;
+    BoundFocal(&p);
     for (int skip = 0; skip < 2; ++skip) {
-      HybridEstimatorOptions o;
-      o.seed = trial;
-      o.reproj_threshold = 2.0;
-      o.epipolar_threshold = 1.0;
+      HybridEstimatorOptions o = NoiseFreeOptions(trial);
       o.lo_skip_same_basin = skip == 1;
       const HybridEstimate est = EstimateHybridRelpose(p, o);
       recovered[skip] += est.success && testing::ModelError(est.model, inst) < 1e-6;
@@ -207,12 +213,8 @@ TEST_P(GuidedSamplingTest, AGoodGuideCutsTheIterationsAndKeepsTheAccuracy) {
     testing::SolverInstance inst;
     std::vector<char> is_inlier;
     RelposeProblem p = MakeProblemWithOutliers(rng, GetParam(), 90, 0.7, &inst, &is_inlier);
-    p.min_focal = 50;
-    p.max_focal = 1e5;
-    HybridEstimatorOptions o;
-    o.seed = trial;
-    o.reproj_threshold = 2.0;
-    o.epipolar_threshold = 1.0;
+    BoundFocal(&p);
+    HybridEstimatorOptions o = NoiseFreeOptions(trial);
     const HybridEstimate uniform = EstimateHybridRelpose(p, o);
     p.guided = MakeGuide(is_inlier);
     const HybridEstimate guided = EstimateHybridRelpose(p, o);
@@ -243,15 +245,11 @@ TEST_P(GuidedSamplingTest, AGuideOfOutliersDoesNotStopTheSearch) {
     testing::SolverInstance inst;
     std::vector<char> is_inlier;
     RelposeProblem p = MakeProblemWithOutliers(rng, GetParam(), 100, 0.5, &inst, &is_inlier);
-    p.min_focal = 50;
-    p.max_focal = 1e5;
+    BoundFocal(&p);
     for (int i = 0; i < p.size(); ++i) {
       if (!is_inlier[i]) p.guided.push_back(i);  // a guide that is all wrong
     }
-    HybridEstimatorOptions o;
-    o.seed = trial;
-    o.reproj_threshold = 2.0;
-    o.epipolar_threshold = 1.0;
+    const HybridEstimatorOptions o = NoiseFreeOptions(trial);
     const HybridEstimate est = EstimateHybridRelpose(p, o);
     recovered += est.success && testing::ModelError(est.model, inst) < 1e-6;
   }
@@ -268,8 +266,7 @@ TEST(GuidedSampling, WithoutAGuideTheFractionChangesNothing) {
   testing::SolverInstance inst;
   std::vector<char> is_inlier;
   RelposeProblem p = MakeProblemWithOutliers(rng, CameraSetup::kSharedFocal, 60, 0.5, &inst, &is_inlier);
-  p.min_focal = 50;
-  p.max_focal = 1e5;
+  BoundFocal(&p);
   HybridEstimatorOptions o;
   o.seed = 5;
   o.guided_sampling_fraction = 0.0;
