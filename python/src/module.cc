@@ -29,7 +29,8 @@ namespace {
   X(sampson_cheirality) X(cheirality_min_parallax) X(min_iterations) X(min_iterations_two_focal_points)           \
   X(max_iterations) X(confidence) X(guided_sampling_fraction) X(num_lo_steps) X(num_lo_lsq_steps)                 \
   X(lo_threshold_multiplier) X(lo_inner_sample_multiplier) X(lo_lsq_sample_size) X(lo_starting_iterations)        \
-  X(alt_basin_lo_margin) X(lo_skip_same_basin) X(planar_twin_min_support) X(lo_max_lm_iterations)                 \
+  X(alt_basin_lo_margin) X(lo_skip_same_basin) X(planar_twin_min_support) X(low_parallax_sampson_factor)         \
+  X(low_parallax_noise_ratio) X(lo_max_lm_iterations)                                                                    \
   X(lo_max_lm_iterations_two_focal) X(final_refinement) X(final_max_lm_iterations)                                \
   X(final_reprojection_weight) X(epipolar_focal_max_sigma) X(epipolar_focal_wide_sigma) X(final_cauchy_ratio)     \
   X(epipolar_check_ratio) X(retry_depth_less) X(scale_only_fallback) X(max_shift_ratio) X(final_depth_fit)        \
@@ -333,6 +334,7 @@ const std::vector<std::pair<const char*, ResultGetter>>& ResultFields() {
       {"sigma_shift1", [](R r) -> py::object { return py::float_(r.estimate.sigma_shift1); }},
       {"shifts_dropped", [](R r) -> py::object { return py::bool_(r.estimate.shifts_dropped); }},
       {"scale_reset", [](R r) -> py::object { return py::bool_(r.estimate.scale_reset); }},
+      {"low_parallax_weighting", [](R r) -> py::object { return py::bool_(r.estimate.low_parallax_weighting); }},
       {"sigma_focal0", [](R r) -> py::object { return py::float_(r.estimate.sigma_focal0); }},
       {"sigma_focal1", [](R r) -> py::object { return py::float_(r.estimate.sigma_focal1); }},
       {"runtime_ms", [](R r) -> py::object { return py::float_(r.estimate.runtime_ms); }},
@@ -406,6 +408,7 @@ py::dict ResultState(const RelativePoseResult& r) {
   d["sigma_shift1"] = e.sigma_shift1;
   d["shifts_dropped"] = e.shifts_dropped;
   d["scale_reset"] = e.scale_reset;
+  d["low_parallax_weighting"] = e.low_parallax_weighting;
   d["sigma_focal0"] = e.sigma_focal0;
   d["sigma_focal1"] = e.sigma_focal1;
   d["runtime_ms"] = e.runtime_ms;
@@ -465,6 +468,7 @@ RelativePoseResult ResultFromState(const py::dict& d) {
   }
   if (d.contains("shifts_dropped")) e.shifts_dropped = get("shifts_dropped").cast<bool>();
   if (d.contains("scale_reset")) e.scale_reset = get("scale_reset").cast<bool>();
+  if (d.contains("low_parallax_weighting")) e.low_parallax_weighting = get("low_parallax_weighting").cast<bool>();
   e.runtime_ms = get("runtime_ms").cast<double>();
   return r;
 }

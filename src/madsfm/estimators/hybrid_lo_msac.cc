@@ -114,7 +114,7 @@ bool DistinctModels(const AffineDepthPose& a, const AffineDepthPose& b) {
 class Engine {
  public:
   Engine(const RelposeProblem& p, const HybridEstimatorOptions& o)
-      : p_(p), o_(o), w_(MsacWeights::FromOptions(o)), solvers_(p, o.estimate_shift), sampler_(o.seed) {
+      : p_(p), o_(o), w_(MsacWeights::FromOptions(o)), nominal_w_(w_), solvers_(p, o.estimate_shift), sampler_(o.seed) {
     median_prior0_ = MedianPrior(p.d0, p.with_depth0);
     median_prior1_ = MedianPrior(p.d1, p.with_depth1);
     if (o.guided_sampling_fraction > 0.0 && !p.guided.empty()) {
@@ -137,7 +137,9 @@ class Engine {
   void LeanOnEpipolarEvidence(AffineDepthPose* model, double* score);
   void TakeEpipolarFocal(AffineDepthPose* model, double* score);
   void FocalSigmas(const AffineDepthPose& model, HybridEstimate* result) const;
+  double ParallaxPixels(const AffineDepthPose& model) const;
   bool ParallaxMeasurable(const AffineDepthPose& model) const;
+  bool LowerSampsonWeightAtLowParallax(const AffineDepthPose& best);
   double SampsonNoiseLevel(const AffineDepthPose& model, double sampson_weight) const;
   double FinalCauchyScale(const AffineDepthPose& model) const;
   void RobustPointRefinement(AffineDepthPose* model, double* score);
@@ -148,7 +150,8 @@ class Engine {
 
   const RelposeProblem& p_;
   const HybridEstimatorOptions& o_;
-  const MsacWeights w_;
+  MsacWeights w_;  // the Sampson weight changes once at low parallax (LowerSampsonWeightAtLowParallax)
+  const MsacWeights nominal_w_;
   MinimalSolvers solvers_;
   IndexSampler sampler_;
   InlierSets inliers_;
@@ -393,9 +396,10 @@ void Engine::FocalSigmas(const AffineDepthPose& model, HybridEstimate* result) c
 // the priors makes a scale-only fit look precise (the covariance cannot see that bias: 15 of 30 pure-rotation pairs
 // in depth_observable_test), so the flag must not rest on the standard deviations alone. true when there are too
 // few epipolar inliers to judge by.
-bool Engine::ParallaxMeasurable(const AffineDepthPose& model) const {
+double Engine::ParallaxPixels(const AffineDepthPose& model) const {
+  constexpr double kNotTheQuestion = std::numeric_limits<double>::infinity();
   const std::vector<int>& in = inliers_.sampson;
-  if (in.size() < 5) return true;
+  if (in.size() < 5) return kNotTheQuestion;
   std::vector<Eigen::Vector3d> y0(in.size()), y1(in.size());
   for (size_t k = 0; k < in.size(); ++k) {
     y0[k] = Eigen::Vector3d(p_.x0[in[k]].x() / model.f0, p_.x0[in[k]].y() / model.f0, 1.0);
@@ -425,7 +429,7 @@ bool Engine::ParallaxMeasurable(const AffineDepthPose& model) const {
   std::vector<char> use(in.size(), 1);
   std::vector<double> transfer;
   Eigen::Matrix3d R = fit_rotation(use);
-  if (!transfers(R, &transfer)) return true;  // parallax is not the question
+  if (!transfers(R, &transfer)) return kNotTheQuestion;
   // Once more without the matches the first rotation transfers worst (beyond twice the median): the epipolar inliers
   // of a model with an arbitrary epipole include a few mismatches that happen to lie near their epipolar lines, and
   // with hundreds of pixels of error each they pull a least-squares rotation by pixels (pure rotations then looked
@@ -434,8 +438,27 @@ bool Engine::ParallaxMeasurable(const AffineDepthPose& model) const {
   const double cut = 2.0 * UpperMedian(transfer);
   for (size_t k = 0; k < in.size(); ++k) use[k] = transfer[k] <= cut;
   R = fit_rotation(use);
-  if (!transfers(R, &transfer)) return true;
-  return UpperMedian(std::move(transfer)) > 3.0 * SampsonNoiseLevel(model, 1.0);
+  if (!transfers(R, &transfer)) return kNotTheQuestion;
+  return UpperMedian(std::move(transfer));
+}
+
+bool Engine::ParallaxMeasurable(const AffineDepthPose& model) const {
+  return ParallaxPixels(model) > 3.0 * SampsonNoiseLevel(model, 1.0);
+}
+
+// HybridEstimatorOptions::low_parallax_sampson_factor: after the first local optimisation, where the best model's
+// epipolar inliers, once the rotation that best transfers them is taken out, move by a median of less than
+// low_parallax_noise_ratio times their noise level (SampsonNoiseLevel), the Sampson term's weight is lowered for the
+// rest of the run. The direction of the translation is then uncertain to about noise / parallax in the epipolar
+// error, and the depth priors determine it better. Hybrid score only (the Sampson-only score has nothing to
+// balance). Returns whether it did.
+bool Engine::LowerSampsonWeightAtLowParallax(const AffineDepthPose& best) {
+  if (!(o_.low_parallax_sampson_factor < 1.0) || !w_.use_reprojection || !w_.use_sampson) return false;
+  ComputeInliers(p_, best, w_, &inliers_);
+  if (inliers_.sampson.size() < 5) return false;
+  if (!(ParallaxPixels(best) < o_.low_parallax_noise_ratio * SampsonNoiseLevel(best, 1.0))) return false;
+  w_.sampson_weight *= o_.low_parallax_sampson_factor;
+  return true;
 }
 
 // Local optimisation in the manner of Lebeda et al. 2012 (LO+ with inner samples and a threshold schedule), as
@@ -673,6 +696,18 @@ HybridEstimate Engine::Run() {
     }
     pending_alt_score = std::numeric_limits<double>::infinity();
   };
+  // After the first local optimisation: the low-parallax weighting (its parallax measured on the optimised best), every
+  // score kept so far under the new weights, and the best optimised once more under them.
+  auto lower_at_low_parallax = [&]() {
+    if (!LowerSampsonWeightAtLowParallax(best)) return;
+    result.low_parallax_weighting = true;
+    best_score = ScoreModel(p_, best, w_);
+    if (std::isfinite(runner_up_score)) runner_up_score = ScoreModel(p_, runner_up, w_);
+    best_min_model_score = ScoreModel(p_, best_min, w_);
+    best_min_score = best_min_model_score;
+    alt_min_score = std::numeric_limits<double>::infinity();
+    optimize_and_compete(best, best_score, false);
+  };
   const int min_iterations =
       !depth_ok && mode == CameraMode::kTwoFocal
           ? std::min(o_.max_iterations, std::max(o_.min_iterations, o_.min_iterations_two_focal_points))
@@ -684,6 +719,7 @@ HybridEstimate Engine::Run() {
       lo_started = true;
       optimize_and_compete(best_min, best_min_model_score, best_min_from_points);
       optimize_pending_alt();
+      lower_at_low_parallax();
       update_termination();
     }
     const bool from_guide = guided && sampler_.Uniform() < g;
@@ -766,6 +802,7 @@ HybridEstimate Engine::Run() {
   if (!lo_started && have_best) {
     optimize_and_compete(best_min, best_min_model_score, best_min_from_points);
     optimize_pending_alt();
+    lower_at_low_parallax();
   }
   result.iterations = it;
 
@@ -839,7 +876,8 @@ HybridEstimate Engine::Run() {
       result.scale_reset = true;
     }
     result.model = best;
-    result.score = best_score;
+    // Under the options' weights, so that scores of searches with and without the low-parallax weighting compare.
+    result.score = result.low_parallax_weighting ? ScoreModel(p_, best, nominal_w_) : best_score;
     const int n = p_.size();
     result.inliers_reproj0.assign(n, 0);
     result.inliers_reproj1.assign(n, 0);

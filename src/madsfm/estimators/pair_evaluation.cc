@@ -173,6 +173,7 @@ PairResult EvaluatePair(const PairData& pair, CameraMode mode, const std::string
     r.depth_observable = est.depth_observable;
     r.shifts_dropped = est.shifts_dropped;
     r.scale_reset = est.scale_reset;
+    r.low_parallax_weighting = est.low_parallax_weighting;
     r.score = est.score;
     AppendEstimateNotes(est, &r.notes);
     r.sigma_scale = est.sigma_scale;

@@ -38,6 +38,7 @@ struct PairResult {
   double sigma_shift1 = std::numeric_limits<double>::quiet_NaN();
   bool shifts_dropped = false;  // HybridEstimate::shifts_dropped (also a note)
   bool scale_reset = false;     // HybridEstimate::scale_reset (also a note)
+  bool low_parallax_weighting = false;  // HybridEstimate::low_parallax_weighting
   double score = std::numeric_limits<double>::quiet_NaN();  // HybridEstimate::score
   // Focal modes: relative standard deviations of the focal lengths (HybridEstimate::sigma_focal0/1).
   double sigma_focal0 = std::numeric_limits<double>::quiet_NaN();

@@ -339,6 +339,8 @@ TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
       {"lo_max_lm_iterations_two_focal", [](HybridEstimatorOptions* e) { e->lo_max_lm_iterations_two_focal += 1; }},
       {"alt_basin_lo_margin", [](HybridEstimatorOptions* e) { e->alt_basin_lo_margin = 0.1; }},
       {"planar_twin_min_support", [](HybridEstimatorOptions* e) { e->planar_twin_min_support = 0.0; }},
+      {"low_parallax_sampson_factor", [](HybridEstimatorOptions* e) { e->low_parallax_sampson_factor = 1.0; }},
+      {"low_parallax_noise_ratio", [](HybridEstimatorOptions* e) { e->low_parallax_noise_ratio += 1; }},
       {"final_refinement", [](HybridEstimatorOptions* e) { e->final_refinement = !e->final_refinement; }},
       {"final_max_lm_iterations", [](HybridEstimatorOptions* e) { e->final_max_lm_iterations += 1; }},
       {"final_reprojection_weight", [](HybridEstimatorOptions* e) { e->final_reprojection_weight = 0.5; }},
