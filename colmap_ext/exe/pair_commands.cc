@@ -75,11 +75,11 @@ struct EstimatorFlags {
                        "Where this fraction of the epipolar inliers fit one homography, the other decomposition of it "
                        "(the planar twin) competes with the result (0: off).");
     parser->AddDefault("low_parallax_sampson_factor", &options.low_parallax_sampson_factor,
-                       "Hybrid: lambda_s is multiplied by this where the best model's epipolar inliers show a median "
-                       "parallax below --low_parallax_noise_ratio times their noise level when the first local optimisation "
-                       "ends (1: off).");
+                       "Hybrid: lambda_s is multiplied by this where, after the first local optimisation, the best "
+                       "model's epipolar inliers move by a median of less than --low_parallax_noise_ratio times their "
+                       "noise level once a rotation is taken out (1: off).");
     parser->AddDefault("low_parallax_noise_ratio", &options.low_parallax_noise_ratio,
-                       "... that ratio (parallax: what a rotation alone leaves of the inliers' motion, pixels).");
+                       "... that ratio (noise level: 1.4826 x the inliers' median absolute Sampson error).");
     parser->AddDefault("retry_depth_less", &options.retry_depth_less,
                        "Hybrid: search once more when the result has almost no depth inliers (1) or not (0).");
     parser->AddDefault("scale_only_fallback", &options.scale_only_fallback,

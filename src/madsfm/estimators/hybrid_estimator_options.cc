@@ -38,7 +38,8 @@ void HybridEstimatorOptions::Check() const {
   Require(std::isfinite(low_parallax_sampson_factor) && low_parallax_sampson_factor > 0.0 &&
               low_parallax_sampson_factor <= 1.0,
           "low_parallax_sampson_factor must be in (0, 1]");
-  Require(std::isfinite(low_parallax_noise_ratio) && low_parallax_noise_ratio >= 0.0, "low_parallax_noise_ratio must be >= 0");
+  Require(std::isfinite(low_parallax_noise_ratio) && low_parallax_noise_ratio >= 0.0,
+          "low_parallax_noise_ratio must be >= 0");
   Require(std::isfinite(max_shift_ratio) && max_shift_ratio >= 0, "max_shift_ratio must be >= 0");
   Require(std::isfinite(cheirality_min_parallax) && cheirality_min_parallax >= 0,
           "cheirality_min_parallax must be >= 0");
