@@ -114,7 +114,7 @@ bool DistinctModels(const AffineDepthPose& a, const AffineDepthPose& b) {
 class Engine {
  public:
   Engine(const RelposeProblem& p, const HybridEstimatorOptions& o)
-      : p_(p), o_(o), w_(MsacWeights::FromOptions(o)), nominal_w_(w_), solvers_(p, o.estimate_shift), sampler_(o.seed) {
+      : p_(p), o_(o), w_(MsacWeights::FromOptions(o)), solvers_(p, o.estimate_shift), sampler_(o.seed) {
     median_prior0_ = MedianPrior(p.d0, p.with_depth0);
     median_prior1_ = MedianPrior(p.d1, p.with_depth1);
     if (o.guided_sampling_fraction > 0.0 && !p.guided.empty()) {
@@ -151,7 +151,6 @@ class Engine {
   const RelposeProblem& p_;
   const HybridEstimatorOptions& o_;
   MsacWeights w_;  // the Sampson weight changes once at low parallax (LowerSampsonWeightAtLowParallax)
-  const MsacWeights nominal_w_;
   MinimalSolvers solvers_;
   IndexSampler sampler_;
   InlierSets inliers_;
@@ -877,7 +876,7 @@ HybridEstimate Engine::Run() {
     }
     result.model = best;
     // Under the options' weights, so that scores of searches with and without the low-parallax weighting compare.
-    result.score = result.low_parallax_weighting ? ScoreModel(p_, best, nominal_w_) : best_score;
+    result.score = result.low_parallax_weighting ? ScoreModel(p_, best, MsacWeights::FromOptions(o_)) : best_score;
     const int n = p_.size();
     result.inliers_reproj0.assign(n, 0);
     result.inliers_reproj1.assign(n, 0);
