@@ -122,6 +122,7 @@ nlohmann::json ResultJson(const PairResult& r) {
     j["sigma_shift1"] = r.sigma_shift1;
     j["shifts_dropped"] = r.shifts_dropped;
     j["scale_reset"] = r.scale_reset;
+    j["low_parallax_weighting"] = r.low_parallax_weighting;
     if (r.camera_mode != "calibrated") {
       j["sigma_focal0"] = r.sigma_focal0;
       j["sigma_focal1"] = r.sigma_focal1;
@@ -381,7 +382,8 @@ int RunBench(int argc, char** argv) {
       if (!csv) throw std::runtime_error("cannot write '" + csv_path + "'");
       csv << "pair,method,camera_mode,status,qw,qx,qy,qz,tx,ty,tz,f0,f1,scale,shift0,shift1,num_inliers,runtime_ms,"
              "rot_err_deg,trans_err_deg,focal_err,depth_err,depth_err_oracle,depth_support,seed,depth_observable,"
-             "sigma_scale,sigma_shift0,sigma_shift1,sigma_focal0,sigma_focal1,shifts_dropped,scale_reset\n";
+             "sigma_scale,sigma_shift0,sigma_shift1,sigma_focal0,sigma_focal1,shifts_dropped,scale_reset,"
+             "low_parallax_weighting\n";
       // Numbers as the shortest round-trip text (FormatDouble), as in the JSON outputs.
       auto num = [](double v) { return FormatDouble(v); };
       auto opt = [](const std::optional<double>& v) { return v ? FormatDouble(*v) : std::string(); };
@@ -405,7 +407,8 @@ int RunBench(int argc, char** argv) {
         for (double v : {r.sigma_scale, r.sigma_shift0, r.sigma_shift1, r.sigma_focal0, r.sigma_focal1}) {
           csv << ',' << (std::isfinite(v) ? num(v) : std::string());
         }
-        csv << ',' << (r.shifts_dropped ? 1 : 0) << ',' << (r.scale_reset ? 1 : 0) << '\n';
+        csv << ',' << (r.shifts_dropped ? 1 : 0) << ',' << (r.scale_reset ? 1 : 0) << ','
+            << (r.low_parallax_weighting ? 1 : 0) << '\n';
       }
       const std::string json_path = (std::filesystem::path(output_path) / "summary.json").string();
       std::ofstream js(json_path);

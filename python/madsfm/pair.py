@@ -66,7 +66,8 @@ def result_json(path, method, result, pair):
                         "sampson": result.num_inliers_sampson}
         j.update(depth_observable=result.depth_observable, sigma_scale=result.sigma_scale,
                  sigma_shift0=result.sigma_shift0, sigma_shift1=result.sigma_shift1,
-                 shifts_dropped=result.shifts_dropped, scale_reset=result.scale_reset)
+                 shifts_dropped=result.shifts_dropped, scale_reset=result.scale_reset,
+                 low_parallax_weighting=result.low_parallax_weighting)
         if result.camera_mode != "calibrated":
             j.update(sigma_focal0=result.sigma_focal0, sigma_focal1=result.sigma_focal1)
     j["iterations"] = result.iterations

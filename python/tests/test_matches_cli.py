@@ -33,6 +33,7 @@ def assert_equals_cli_json(result, j):
     if result.camera_mode != "calibrated":
         assert (result.sigma_focal0, result.sigma_focal1) == (j["sigma_focal0"], j["sigma_focal1"])
     assert (result.shifts_dropped, result.scale_reset) == (j["shifts_dropped"], j["scale_reset"])
+    assert result.low_parallax_weighting == j["low_parallax_weighting"]
     assert (result.num_inliers_reproj0, result.num_inliers_reproj1, result.num_inliers_sampson) == (
         j["inliers"]["reproj_0to1"], j["inliers"]["reproj_1to0"], j["inliers"]["sampson"])
     # The masks agree with the counts.

@@ -67,6 +67,7 @@ TEST(PairCommand, PrintsTheEstimateAndItsErrorsAsJson) {
   // Determined corrections: neither replaced by the scale-only search nor reset.
   EXPECT_FALSE(j["shifts_dropped"].get<bool>());
   EXPECT_FALSE(j["scale_reset"].get<bool>());
+  ASSERT_TRUE(j["low_parallax_weighting"].is_boolean());
 }
 
 TEST(PairCommand, PointMethodReportsNoDepthCorrections) {
@@ -111,7 +112,8 @@ TEST(BenchCommand, PerPairCsvCarriesTheDepthFlagAndItsSigmas) {
   std::map<std::string, size_t> col;
   for (size_t i = 0; i < header.size(); ++i) col[header[i]] = i;
   for (const char* name : {"depth_observable", "sigma_scale", "sigma_shift0", "sigma_shift1", "sigma_focal0",
-                           "depth_err", "depth_err_oracle", "shifts_dropped", "scale_reset"}) {
+                           "depth_err", "depth_err_oracle", "shifts_dropped", "scale_reset",
+                           "low_parallax_weighting"}) {
     ASSERT_TRUE(col.count(name)) << name;
   }
   int hybrid_measured = 0, hybrid_observable = 0, observable_good = 0, points_rows = 0;
@@ -125,12 +127,14 @@ TEST(BenchCommand, PerPairCsvCarriesTheDepthFlagAndItsSigmas) {
     if (method == "points") {
       ++points_rows;
       EXPECT_FALSE(observable) << line;
+      EXPECT_EQ(f[col["low_parallax_weighting"]], "0") << "no Sampson weight to lower: " << line;
       EXPECT_TRUE(f[col["sigma_scale"]].empty()) << line;
       continue;
     }
     ASSERT_EQ(method, "hybrid");
     ASSERT_TRUE(f[col["shifts_dropped"]] == "0" || f[col["shifts_dropped"]] == "1") << line;
     ASSERT_TRUE(f[col["scale_reset"]] == "0" || f[col["scale_reset"]] == "1") << line;
+    ASSERT_TRUE(f[col["low_parallax_weighting"]] == "0" || f[col["low_parallax_weighting"]] == "1") << line;
     if (f[col["shifts_dropped"]] == "1") {
       // Undetermined shifts, replaced by the scale-only search's result: shifts 0, not estimated, not observable.
       EXPECT_FALSE(observable) << line;
