@@ -8,6 +8,9 @@
 #   OUT/shared.txt    the pairs of the one-focal scenes
 #   OUT/twofocal.txt  the pairs of the per-image-focal scenes
 # Half of the seeds use a stronger non-affine prior distortion (--prior_distortion 0.06 instead of 0.03).
+# SCENE_SET=low_parallax renders instead five small-motion walks in the room (hand-held in a ball of 0.2% and 0.4%
+# of the distance to the target, sideways 0.3% and 0.6%, forward 1%), one shared camera each: pairs whose
+# parallax is a few times the SIFT noise (calib.txt and shared.txt list the same pairs; twofocal.txt stays empty).
 # Usage: scripts/bench/rendered_pair_set.sh MADSFM_BINARY OUT_DIR [SEEDS...]   (default seeds: 100 101)
 set -euo pipefail
 MADSFM="$1"; OUT="$2"; shift 2
@@ -31,6 +34,14 @@ for seed in "${SEEDS[@]}"; do
     "$PY" "$HERE/rendered_pairs.py" "$p" "$OUT/pairs/${name}_s$seed" --prefix "${name}_s${seed}_" >&2
     sed "s|^|pairs/${name}_s$seed/|" "$OUT/pairs/${name}_s$seed/pairs.txt" | tee -a "$OUT/calib.txt" >> "$OUT/$list.txt"
   }
+  if [ "${SCENE_SET:-standard}" = low_parallax ]; then
+    scene handheld_b002 shared 1 --num_images 6 --motion handheld --baseline_fraction 0.002
+    scene handheld_b004 shared 1 --num_images 6 --motion handheld --baseline_fraction 0.004
+    scene sideways_b003 shared 1 --num_images 6 --motion sideways --baseline_fraction 0.003
+    scene sideways_b006 shared 1 --num_images 6 --motion sideways --baseline_fraction 0.006
+    scene forward_b01 shared 1 --num_images 6 --motion forward --baseline_fraction 0.01
+    continue
+  fi
   scene arc shared 1 --num_images 10
   scene street shared 1 --scene street --num_images 10
   scene sideways shared 1 --num_images 8 --motion sideways --baseline_fraction 0.08
