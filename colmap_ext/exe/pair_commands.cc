@@ -80,6 +80,8 @@ struct EstimatorFlags {
                        "noise level once a rotation is taken out (1: off).");
     parser->AddDefault("low_parallax_noise_ratio", &options.low_parallax_noise_ratio,
                        "... that ratio (noise level: 1.4826 x the inliers' median absolute Sampson error).");
+    parser->AddDefault("low_parallax_final_reprojection_weight", &options.low_parallax_final_reprojection_weight,
+                       "Hybrid: --final_reprojection_weight where that low-parallax switch was taken (0-1).");
     parser->AddDefault("retry_depth_less", &options.retry_depth_less,
                        "Hybrid: search once more when the result has almost no depth inliers (1) or not (0).");
     parser->AddDefault("scale_only_fallback", &options.scale_only_fallback,

@@ -308,8 +308,9 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version changes with the estimator's results ("madsfm-16": a lower
-  // Sampson weight at low parallax (low_parallax_sampson_factor); "madsfm-15": a new best
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-17": calibrated
+  // low-parallax pairs keep depth terms in the last refinement (low_parallax_final_reprojection_weight); "madsfm-16":
+  // a lower Sampson weight at low parallax (low_parallax_sampson_factor); "madsfm-15": a new best
   // minimal model in the optimised best's basin is not optimised again (lo_skip_same_basin); "madsfm-14": COLMAP's
   // verified matches guide the sampling (guided_sampling_fraction); "madsfm-13": 6 LM
   // iterations per local-optimisation fit outside two focal (lo_max_lm_iterations); "madsfm-12": the planar
@@ -321,7 +322,7 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
   // deviations stored, the robust last refinement; "madsfm-5": more iterations for two-focal point-only searches;
   // "madsfm-4": the epipolar focal lengths where they are precise; "madsfm-3": other basins' minimal models
   // optimised, depth-less results searched again), so pairs done by an older madsfm are estimated again.
-  s << "madsfm-16;mode=" << o.camera_mode << ";depth=" << depth
+  s << "madsfm-17;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";cheir="
@@ -331,7 +332,8 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/"
     << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.lo_max_lm_iterations_two_focal << "/"
     << e.alt_basin_lo_margin << "/" << e.lo_skip_same_basin << "/" << e.planar_twin_min_support
-    << ";lowpar=" << e.low_parallax_sampson_factor << "/" << e.low_parallax_noise_ratio
+    << ";lowpar=" << e.low_parallax_sampson_factor << "/" << e.low_parallax_noise_ratio << "/"
+    << e.low_parallax_final_reprojection_weight
     << ";final=" << e.final_refinement << "/" << e.final_max_lm_iterations << "/" << e.final_reprojection_weight
     << "/" << e.epipolar_focal_max_sigma << "/" << e.epipolar_focal_wide_sigma << "/" << e.final_cauchy_ratio
     << ";check=" << e.epipolar_check_ratio << "/" << e.retry_depth_less << "/" << e.scale_only_fallback

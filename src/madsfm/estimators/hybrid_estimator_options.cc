@@ -46,6 +46,8 @@ void HybridEstimatorOptions::Check() const {
   Require(max_depth_sigma > 0, "max_depth_sigma must be > 0");
   Require(final_reprojection_weight >= 0 && final_reprojection_weight <= 1,
           "final_reprojection_weight must be in [0, 1]");
+  Require(low_parallax_final_reprojection_weight >= 0 && low_parallax_final_reprojection_weight <= 1,
+          "low_parallax_final_reprojection_weight must be in [0, 1]");
   Require(epipolar_check_ratio == 0 || epipolar_check_ratio >= 1, "epipolar_check_ratio must be 0 or >= 1");
   Require(std::isfinite(final_cauchy_ratio) && final_cauchy_ratio >= 0, "final_cauchy_ratio must be >= 0");
   Require(std::isfinite(epipolar_focal_max_sigma) && epipolar_focal_max_sigma >= 0,

@@ -134,7 +134,7 @@ class Engine {
   RelposeRefinerOptions RefinerOptions(int max_iterations) const;
   bool Refine(AffineDepthPose* model, const InlierSets& inliers, int max_iterations);
   void FitDepthCorrections(AffineDepthPose* model, double* score, HybridEstimate* result);
-  void LeanOnEpipolarEvidence(AffineDepthPose* model, double* score);
+  void LeanOnEpipolarEvidence(double reprojection_weight, AffineDepthPose* model, double* score);
   void TakeEpipolarFocal(AffineDepthPose* model, double* score);
   void FocalSigmas(const AffineDepthPose& model, HybridEstimate* result) const;
   double ParallaxPixels(const AffineDepthPose& model) const;
@@ -257,20 +257,21 @@ void Engine::FitDepthCorrections(AffineDepthPose* model, double* score, HybridEs
   inliers_ = rin;
 }
 
-// The last refinement with down-weighted reprojection terms (options.final_reprojection_weight): the
+// The last refinement with down-weighted reprojection terms (options.final_reprojection_weight, or
+// low_parallax_final_reprojection_weight after the low-parallax switch): the
 // depth priors have picked the hypothesis, the inliers and the focal lengths; the epipolar evidence of
 // accurate matches then sets the pose, which monocular depth biases when it is distorted. Rounds of
 // (refine, re-select inliers); a round is kept only if it keeps >= 95% of the epipolar inliers.
 // Levenberg-Marquardt starts at the joint estimate, so directions the epipolar cost leaves flat
 // (small baselines) stay close to it.
-void Engine::LeanOnEpipolarEvidence(AffineDepthPose* model, double* score) {
+void Engine::LeanOnEpipolarEvidence(double reprojection_weight, AffineDepthPose* model, double* score) {
   if (o_.epipolar_focal_max_sigma > 0.0 && p_.mode != CameraMode::kCalibrated) TakeEpipolarFocal(model, score);
-  const bool epipolar_only = o_.final_reprojection_weight == 0.0;
+  const bool epipolar_only = reprojection_weight == 0.0;
   RelposeRefinerOptions ro;
   ro.max_iterations = o_.final_max_lm_iterations;
   ro.sampson_weight = w_.sampson_weight;
   ro.refine_shift = w_.use_shift;
-  ro.reprojection_weight = o_.final_reprojection_weight;
+  ro.reprojection_weight = reprojection_weight;
   ro.refine_focal = !epipolar_only;
   ro.cauchy_scale = FinalCauchyScale(*model);
   const std::vector<int> none;
@@ -838,9 +839,16 @@ HybridEstimate Engine::Run() {
       ComputeInliers(p_, best, w_, &inliers_);
       result.runner_up_won = true;
     }
-    if (o_.final_refinement && o_.final_reprojection_weight < 1.0 && w_.use_reprojection && w_.use_sampson &&
+    // Calibrated, at low parallax: the epipolar error hardly constrains the translation's direction, so the last
+    // refinement keeps more of the depth terms (with focal lengths, whose refinement the depth terms would then bias,
+    // it lost on planar shared-focal scenes).
+    const double final_reprojection_weight =
+        result.low_parallax_weighting && p_.mode == CameraMode::kCalibrated
+            ? o_.low_parallax_final_reprojection_weight
+            : o_.final_reprojection_weight;
+    if (o_.final_refinement && final_reprojection_weight < 1.0 && w_.use_reprojection && w_.use_sampson &&
         !inliers_.sampson.empty()) {
-      LeanOnEpipolarEvidence(&best, &best_score);
+      LeanOnEpipolarEvidence(final_reprojection_weight, &best, &best_score);
     }
     if (o_.final_refinement && !w_.use_reprojection && w_.use_sampson && !inliers_.sampson.empty()) {
       RobustPointRefinement(&best, &best_score);

@@ -341,6 +341,8 @@ TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
       {"planar_twin_min_support", [](HybridEstimatorOptions* e) { e->planar_twin_min_support = 0.0; }},
       {"low_parallax_sampson_factor", [](HybridEstimatorOptions* e) { e->low_parallax_sampson_factor = 1.0; }},
       {"low_parallax_noise_ratio", [](HybridEstimatorOptions* e) { e->low_parallax_noise_ratio += 1; }},
+      {"low_parallax_final_reprojection_weight",
+       [](HybridEstimatorOptions* e) { e->low_parallax_final_reprojection_weight = 0.5; }},
       {"final_refinement", [](HybridEstimatorOptions* e) { e->final_refinement = !e->final_refinement; }},
       {"final_max_lm_iterations", [](HybridEstimatorOptions* e) { e->final_max_lm_iterations += 1; }},
       {"final_reprojection_weight", [](HybridEstimatorOptions* e) { e->final_reprojection_weight = 0.5; }},
