@@ -51,7 +51,8 @@ SetResult RunSet(const std::vector<SyntheticPair>& set, CameraMode mode, double 
 
 // Baselines of 0.5-3% of the depth: the weighting is taken on most runs and raises the accuracy of the set. Measured
 // (40 pairs x 3 seeds, at most 600 matches): AUC@10 27.2 vs 24.3 calibrated (25.5 without the depth terms in the last
-// refinement), 30.1 vs 26.0 shared focal; taken on 114 and 109 of 120 runs. With all matches the gain is 4-5 AUC@10 (docs/benchmarks.md section 11).
+// refinement), 30.1 vs 26.0 shared focal; taken on 114 and 109 of 120 runs. With all matches the gain is 4-5
+// AUC@10 (docs/benchmarks.md section 11).
 TEST(LowParallaxWeighting, RaisesLowParallaxAccuracy) {
   for (const auto& [preset, mode] : {std::pair<const char*, CameraMode>{"hard_low_parallax_calibrated",
                                                                         CameraMode::kCalibrated},
