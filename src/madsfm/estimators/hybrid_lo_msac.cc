@@ -267,10 +267,7 @@ void Engine::FitDepthCorrections(AffineDepthPose* model, double* score, HybridEs
 void Engine::LeanOnEpipolarEvidence(double reprojection_weight, AffineDepthPose* model, double* score) {
   if (o_.epipolar_focal_max_sigma > 0.0 && p_.mode != CameraMode::kCalibrated) TakeEpipolarFocal(model, score);
   const bool epipolar_only = reprojection_weight == 0.0;
-  RelposeRefinerOptions ro;
-  ro.max_iterations = o_.final_max_lm_iterations;
-  ro.sampson_weight = w_.sampson_weight;
-  ro.refine_shift = w_.use_shift;
+  RelposeRefinerOptions ro = RefinerOptions(o_.final_max_lm_iterations);  // with the shift bound
   ro.reprojection_weight = reprojection_weight;
   ro.refine_focal = !epipolar_only;
   ro.cauchy_scale = FinalCauchyScale(*model);
