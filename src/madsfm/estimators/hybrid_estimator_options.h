@@ -109,12 +109,12 @@ struct HybridEstimatorOptions {
   // HybridEstimate::score stays the MSAC score under sampson_weight. 1: off.
   double low_parallax_sampson_factor = 0.35;
   double low_parallax_noise_ratio = 6.0;
-  // Calibrated pairs where that switch was taken: the last refinement's reprojection weight (final_reprojection_weight
-  // elsewhere). The epipolar-only refinement lets the translation's direction slide along the flat epipolar cost of a
-  // small baseline. 0.3 raised the synthetic low-parallax calibrated sets by 0.6-1.0 AUC@10 and rendered low-parallax
-  // pairs with real SIFT by 6.5 (0.05 px) and 8.6 (0.2 px noise); with focal lengths it lost on planar shared-focal
-  // scenes, so it is not applied there (docs/benchmarks.md section 11, update of 2026-12-07). Set it to
-  // final_reprojection_weight for off.
+  // Pairs where that switch was taken: the last refinement's reprojection weight (final_reprojection_weight elsewhere),
+  // with the focal lengths held fixed in the focal modes. The epipolar-only refinement lets the translation's
+  // direction slide along the flat epipolar cost of a small baseline. 0.3 raised the synthetic low-parallax calibrated
+  // sets by 0.6-1.0 AUC@10 and rendered low-parallax pairs with real SIFT by 6.5 (0.05 px) and 8.6 (0.2 px noise);
+  // in shared focal +0.5 to +0.8 (synthetic) and +6.6 (rendered, 0.2 px), for -1.0 on dev planar shared focal
+  // (docs/benchmarks.md section 11, updates of 2026-12-07). Set it to final_reprojection_weight for off.
   double low_parallax_final_reprojection_weight = 0.3;
   // Levenberg-Marquardt iterations per least-squares fit of the local optimisation; two focal lengths (11 free
   // parameters, a focal direction the subsets determine poorly) get lo_max_lm_iterations_two_focal. Over 20 synthetic

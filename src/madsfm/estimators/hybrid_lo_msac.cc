@@ -141,7 +141,7 @@ class Engine {
   RelposeRefinerOptions RefinerOptions(int max_iterations) const;
   bool Refine(AffineDepthPose* model, const InlierSets& inliers, int max_iterations);
   void FitDepthCorrections(AffineDepthPose* model, double* score, HybridEstimate* result);
-  void LeanOnEpipolarEvidence(double reprojection_weight, AffineDepthPose* model, double* score);
+  void LeanOnEpipolarEvidence(double reprojection_weight, bool refine_focal, AffineDepthPose* model, double* score);
   void TakeEpipolarFocal(AffineDepthPose* model, double* score);
   void FocalSigmas(const AffineDepthPose& model, HybridEstimate* result) const;
   double ParallaxPixels(const AffineDepthPose& model) const;
@@ -271,13 +271,15 @@ void Engine::FitDepthCorrections(AffineDepthPose* model, double* score, HybridEs
 // accurate matches then sets the pose, which monocular depth biases when it is distorted. Rounds of
 // (refine, re-select inliers); a round is kept only if it keeps >= 95% of the epipolar inliers.
 // Levenberg-Marquardt starts at the joint estimate, so directions the epipolar cost leaves flat
-// (small baselines) stay close to it.
-void Engine::LeanOnEpipolarEvidence(double reprojection_weight, AffineDepthPose* model, double* score) {
+// (small baselines) stay close to it. The focal lengths are refined only with depth terms and refine_focal (the
+// epipolar-only refinement keeps those the search and TakeEpipolarFocal gave).
+void Engine::LeanOnEpipolarEvidence(double reprojection_weight, bool refine_focal, AffineDepthPose* model,
+                                    double* score) {
   if (o_.epipolar_focal_max_sigma > 0.0 && p_.mode != CameraMode::kCalibrated) TakeEpipolarFocal(model, score);
   const bool epipolar_only = reprojection_weight == 0.0;
   RelposeRefinerOptions ro = RefinerOptions(o_.final_max_lm_iterations);  // with the shift bound
   ro.reprojection_weight = reprojection_weight;
-  ro.refine_focal = !epipolar_only;
+  ro.refine_focal = refine_focal && !epipolar_only;
   ro.cauchy_scale = FinalCauchyScale(*model);
   const std::vector<int> none;
   for (int round = 0; round < 3; ++round) {
@@ -858,16 +860,15 @@ HybridEstimate Engine::Run() {
       ComputeInliers(p_, best, w_, &inliers_);
       result.runner_up_won = true;
     }
-    // Calibrated, at low parallax: the epipolar error hardly constrains the translation's direction, so the last
-    // refinement keeps more of the depth terms (with focal lengths, whose refinement the depth terms would then bias,
-    // it lost on planar shared-focal scenes).
+    // At low parallax the epipolar error hardly constrains the translation's direction, so the last refinement keeps
+    // more of the depth terms. In the focal modes the focal lengths then stay fixed: refined beside biased depth terms
+    // they lost 1.6 AUC@10 on dev planar shared focal (docs/benchmarks.md section 11, updates of 2026-12-07).
+    const bool low_parallax_mixed = result.low_parallax_weighting;
     const double final_reprojection_weight =
-        result.low_parallax_weighting && p_.mode == CameraMode::kCalibrated
-            ? o_.low_parallax_final_reprojection_weight
-            : o_.final_reprojection_weight;
+        low_parallax_mixed ? o_.low_parallax_final_reprojection_weight : o_.final_reprojection_weight;
     if (o_.final_refinement && final_reprojection_weight < 1.0 && w_.use_reprojection && w_.use_sampson &&
         !inliers_.sampson.empty()) {
-      LeanOnEpipolarEvidence(final_reprojection_weight, &best, &best_score);
+      LeanOnEpipolarEvidence(final_reprojection_weight, !low_parallax_mixed, &best, &best_score);
     }
     if (o_.final_refinement && !w_.use_reprojection && w_.use_sampson && !inliers_.sampson.empty()) {
       RobustPointRefinement(&best, &best_score);
