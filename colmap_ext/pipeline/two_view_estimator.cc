@@ -308,9 +308,9 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version changes with the estimator's results ("madsfm-18": the depth
-  // corrections after the low-parallax mixed last refinement come from the triangulation fit, and the refinements stop
-  // at a relative cost decrease of 1e-7; "madsfm-17": calibrated
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-18": the
+  // low-parallax mixed last refinement in the focal modes too, the depth corrections after it from the triangulation
+  // fit, and the refinements stop at a relative cost decrease of 1e-7; "madsfm-17": calibrated
   // low-parallax pairs keep depth terms in the last refinement (low_parallax_final_reprojection_weight); "madsfm-16":
   // a lower Sampson weight at low parallax (low_parallax_sampson_factor); "madsfm-15": a new best
   // minimal model in the optimised best's basin is not optimised again (lo_skip_same_basin); "madsfm-14": COLMAP's
