@@ -308,9 +308,10 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version changes with the estimator's results ("madsfm-18": the
-  // low-parallax mixed last refinement in the focal modes too, the depth corrections after it from the triangulation
-  // fit, and the refinements stop at a relative cost decrease of 1e-7; "madsfm-17": calibrated
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-19": two focal
+  // lengths from the epipolar evidence are not taken where a view would lose more than half of its depth inliers;
+  // "madsfm-18": the low-parallax mixed last refinement in the focal modes too, the depth corrections after it from
+  // the triangulation fit, and the refinements stop at a relative cost decrease of 1e-7; "madsfm-17": calibrated
   // low-parallax pairs keep depth terms in the last refinement (low_parallax_final_reprojection_weight); "madsfm-16":
   // a lower Sampson weight at low parallax (low_parallax_sampson_factor); "madsfm-15": a new best
   // minimal model in the optimised best's basin is not optimised again (lo_skip_same_basin); "madsfm-14": COLMAP's
@@ -324,7 +325,7 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
   // deviations stored, the robust last refinement; "madsfm-5": more iterations for two-focal point-only searches;
   // "madsfm-4": the epipolar focal lengths where they are precise; "madsfm-3": other basins' minimal models
   // optimised, depth-less results searched again), so pairs done by an older madsfm are estimated again.
-  s << "madsfm-18;mode=" << o.camera_mode << ";depth=" << depth
+  s << "madsfm-19;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";cheir="

@@ -134,7 +134,9 @@ struct HybridEstimatorOptions {
   double final_reprojection_weight = 0.0;
   // Focal modes, before that last refinement: the focal lengths (and pose) of the epipolar inliers alone are taken
   // where their relative Gauss-Newton standard deviation is at most this and they reject the joint ones (differ by
-  // more than 3 deviations) (0: never; Engine::TakeEpipolarFocal; docs/benchmarks.md section 11).
+  // more than 3 deviations) (0: never; Engine::TakeEpipolarFocal; docs/benchmarks.md section 11). Two focal lengths
+  // are not taken where a view would keep less than half of its depth inliers (optical axes that meet leave them to
+  // the priors).
   double epipolar_focal_max_sigma = 0.01;
   // Shared focal only: also where their relative deviation is at most this (above epipolar_focal_max_sigma) and they
   // reject the joint focal length by more than 5 deviations. Forward motion leaves the joint focal to the depth priors,

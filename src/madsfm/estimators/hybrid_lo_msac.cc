@@ -29,6 +29,10 @@ constexpr double kMaxScaleRatio = 1000.0;
 // 2026-12-07 (later)).
 constexpr double kRefinementFunctionTolerance = 1e-7;
 
+// Two focal: the epipolar focal lengths (Engine::TakeEpipolarFocal) are not taken when a view would keep less than
+// this share of its depth inliers.
+constexpr double kTwoFocalEpipolarMinDepthShare = 0.5;
+
 // The planar twin is only tried where the baseline is at least this fraction of the plane's distance from camera 0
 // (the |t| of the twin's decomposition of the homography). Below it both decompositions differ little in rotation, the
 // points off the plane barely tell them apart, and on the low-parallax sets the twin changed results both ways (the
@@ -150,7 +154,8 @@ class Engine {
   double SampsonNoiseLevel(const AffineDepthPose& model, double sampson_weight) const;
   double FinalCauchyScale(const AffineDepthPose& model) const;
   void RobustPointRefinement(AffineDepthPose* model, double* score);
-  bool KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineDepthPose* model, double* score);
+  bool KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineDepthPose* model, double* score,
+                                   double min_depth_share = 0.0);
   bool ShiftsInBound(const AffineDepthPose& model) const;
   bool FitDepthInBound(const std::vector<int>& indices, AffineDepthPose* model) const;
   bool PlanarTwin(const AffineDepthPose& best, AffineDepthPose* twin);
@@ -343,11 +348,17 @@ void Engine::RobustPointRefinement(AffineDepthPose* model, double* score) {
   }
 }
 
-// Takes `refined` (model, score and inliers) when it keeps >= 95% of the current epipolar inliers.
-bool Engine::KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineDepthPose* model, double* score) {
+// Takes `refined` (model, score and inliers) when it keeps >= 95% of the current epipolar inliers and at least
+// min_depth_share of each view's depth (reprojection) inliers.
+bool Engine::KeepIfEpipolarInliersRemain(const AffineDepthPose& refined, AffineDepthPose* model, double* score,
+                                         double min_depth_share) {
   InlierSets check;
   ComputeInliers(p_, refined, w_, &check);
   if (check.sampson.size() < 0.95 * inliers_.sampson.size()) return false;
+  if (check.reproj0.size() < min_depth_share * inliers_.reproj0.size() ||
+      check.reproj1.size() < min_depth_share * inliers_.reproj1.size()) {
+    return false;
+  }
   *model = refined;
   *score = ScoreModel(p_, refined, w_);
   inliers_ = std::move(check);
@@ -388,7 +399,14 @@ void Engine::TakeEpipolarFocal(AffineDepthPose* model, double* score) {
                        (two && std::abs(refined.f1 - model->f1) > k * sum.sigma_f1);
   if (!rejects) return;
   FitDepthInBound(inliers_.sampson, &refined);
-  KeepIfEpipolarInliersRemain(refined, model, score);
+  // Two focal lengths: where the optical axes (nearly) meet, F does not fix them at all (Bougnoux's formula is
+  // singular there), and the Sampson-only refinement can slide far along a flat valley whose end still looks precise
+  // (a rendered arc pair with 0.5 px keypoints: 508 / 323 px -> 1859 / 1164 px, 0.5% deviation, pose 0.1 -> 45 deg).
+  // Then the depth priors are the evidence, and a move that costs a view more than half of its depth inliers (912 ->
+  // 57 there) is one they reject outright. A shared focal length is fixed by F in that configuration; there the
+  // same rule refused moves that corrected joint focal lengths 3.3-7.4x off (docs/benchmarks.md section 11, updates of
+  // 2026-12-07 (morning)), so it is two focal only.
+  KeepIfEpipolarInliersRemain(refined, model, score, two ? kTwoFocalEpipolarMinDepthShare : 0.0);
 }
 
 // Focal modes: the standard deviations of the focal lengths at the final model under the cost of its data types
