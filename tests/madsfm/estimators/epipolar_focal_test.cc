@@ -1,14 +1,14 @@
 // Focal modes: where the epipolar inliers determine the focal lengths to within epipolar_focal_max_sigma, the
 // estimate takes theirs instead of the joint one, which smoothly distorted priors pull off by a few percent
-// (HybridEstimatorOptions::epipolar_focal_max_sigma, Engine::TakeEpipolarFocal).
+// (HybridEstimatorOptions::epipolar_focal_max_sigma, Engine::TakeEpipolarFocal); two focal lengths only where the
+// depth priors do not reject them (most of a view's depth inliers lost).
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <vector>
-
-#include <Eigen/Geometry>
-#include <cmath>
 
 #include "madsfm/estimators/estimate_relpose.h"
 #include "madsfm/estimators/pair_evaluation.h"
@@ -114,7 +114,6 @@ TEST(EpipolarFocal, JointFocalWithinTheEpipolarNoiseIsKept) {
     EXPECT_LE(e_on, e_off + 0.1);
   }
 }
-
 
 // Two cameras on an arc around a target, both looking at it: their optical axes meet, where the fundamental matrix
 // does not determine two focal lengths (Bougnoux's formula is singular). Points in a box around the target, 0.3 px
