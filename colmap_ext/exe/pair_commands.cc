@@ -34,6 +34,8 @@ struct EstimatorFlags {
     parser->AddDefault("min_iterations", &options.min_iterations, "Minimum RANSAC iterations.");
     parser->AddDefault("min_iterations_two_focal_points", &options.min_iterations_two_focal_points,
                        "Two focal lengths, point samples only (7-point): at least this many iterations.");
+    parser->AddDefault("min_iterations_shared_focal_points", &options.min_iterations_shared_focal_points,
+                       "Shared focal length, point samples only (6-point): at least this many iterations.");
     parser->AddDefault("max_iterations", &options.max_iterations, "Maximum RANSAC iterations.");
     parser->AddDefault("num_lo_steps", &options.num_lo_steps, "Local-optimisation rounds per new best model.");
     parser->AddDefault("confidence", &options.confidence, "Confidence of the adaptive stopping criterion.");

@@ -49,6 +49,8 @@ int RunTwoViewEstimator(int argc, char** argv) {
   parser.AddDefault("min_iterations", &o.estimator.min_iterations, "Minimum RANSAC iterations.");
   parser.AddDefault("min_iterations_two_focal_points", &o.estimator.min_iterations_two_focal_points,
                     "One camera per image and no depth on a pair (7-point samples only): at least this many.");
+  parser.AddDefault("min_iterations_shared_focal_points", &o.estimator.min_iterations_shared_focal_points,
+                    "Shared focal length and no depth on a pair (6-point samples only): at least this many.");
   parser.AddDefault("max_iterations", &o.estimator.max_iterations, "Maximum RANSAC iterations.");
   parser.AddDefault("guided_sampling_fraction", &o.estimator.guided_sampling_fraction,
                     "Share of the minimal samples drawn from the matches COLMAP's geometric verification kept (the\n"

@@ -308,7 +308,8 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version changes with the estimator's results ("madsfm-19": two focal
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-20": shared-focal
+  // point-only searches run at least min_iterations_shared_focal_points; "madsfm-19": two focal
   // lengths from the epipolar evidence are not taken where a view would lose more than half of its depth inliers;
   // "madsfm-18": the low-parallax mixed last refinement in the focal modes too, the depth corrections after it from
   // the triangulation fit, and the refinements stop at a relative cost decrease of 1e-7; "madsfm-17": calibrated
@@ -325,12 +326,12 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
   // deviations stored, the robust last refinement; "madsfm-5": more iterations for two-focal point-only searches;
   // "madsfm-4": the epipolar focal lengths where they are precise; "madsfm-3": other basins' minimal models
   // optimised, depth-less results searched again), so pairs done by an older madsfm are estimated again.
-  s << "madsfm-19;mode=" << o.camera_mode << ";depth=" << depth
+  s << "madsfm-20;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";cheir="
     << e.sampson_cheirality << "/" << e.cheirality_min_parallax << ";it=" << e.min_iterations << "/"
-    << e.min_iterations_two_focal_points << "-" << e.max_iterations << ";conf=" << e.confidence
+    << e.min_iterations_two_focal_points << "/" << e.min_iterations_shared_focal_points << "-" << e.max_iterations << ";conf=" << e.confidence
     << ";guided=" << e.guided_sampling_fraction << ";lo=" << e.num_lo_steps << "/" << e.num_lo_lsq_steps << "/"
     << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/"
     << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.lo_max_lm_iterations_two_focal << "/"

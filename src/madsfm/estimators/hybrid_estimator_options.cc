@@ -19,6 +19,7 @@ void HybridEstimatorOptions::Check() const {
   Require(std::isfinite(sampson_weight) && sampson_weight >= 0, "sampson_weight must be >= 0");
   Require(min_iterations >= 0, "min_iterations must be >= 0");
   Require(min_iterations_two_focal_points >= 0, "min_iterations_two_focal_points must be >= 0");
+  Require(min_iterations_shared_focal_points >= 0, "min_iterations_shared_focal_points must be >= 0");
   Require(max_iterations >= 1, "max_iterations must be >= 1");
   Require(max_iterations >= min_iterations, "max_iterations must be >= min_iterations");
   Require(confidence > 0 && confidence < 1, "confidence must be in (0, 1)");

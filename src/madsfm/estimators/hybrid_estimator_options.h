@@ -57,6 +57,13 @@ struct HybridEstimatorOptions {
   // as PoseLib's examples: two-focal points AUC@10 +1.5 on average over the rendered and synthetic sets
   // (docs/benchmarks.md section 11, "Update 2026-12-02 (evening)"). Capped by max_iterations.
   int min_iterations_two_focal_points = 1000;
+  // The same for one shared focal length with point samples only (6-point solver: `--method points`, or a pair without
+  // depth). Clean 6-point samples end in a wrong-focal basin that holds ~98% of the inliers often enough that the
+  // adaptive stop, reached after min_iterations at such inlier ratios, leaves 1 run in 10 far off on some pairs. 300:
+  // rendered pairs at 0.5 px, 10 seeds, AUC@10 92.82 -> 93.28 with the seed spread 0.63 -> 0.26, and the synthetic
+  // shared-focal sets over 30 seeds (docs/benchmarks.md section 11, update of 2026-12-07, midday). Capped by
+  // max_iterations.
+  int min_iterations_shared_focal_points = 300;
   int max_iterations = 10000;
   double confidence = 0.9999;
   // Problems with a guide (RelposeProblem::guided, e.g. the matches COLMAP's geometric verification kept): this

@@ -747,10 +747,12 @@ HybridEstimate Engine::Run() {
     alt_min_score = std::numeric_limits<double>::infinity();
     optimize_and_compete(best, best_score, false);
   };
+  // Point samples only in a focal mode: the extended minimum of that mode (see the options).
+  const int points_only_minimum = mode == CameraMode::kTwoFocal     ? o_.min_iterations_two_focal_points
+                                  : mode == CameraMode::kSharedFocal ? o_.min_iterations_shared_focal_points
+                                                                     : 0;
   const int min_iterations =
-      !depth_ok && mode == CameraMode::kTwoFocal
-          ? std::min(o_.max_iterations, std::max(o_.min_iterations, o_.min_iterations_two_focal_points))
-          : o_.min_iterations;
+      depth_ok ? o_.min_iterations : std::min(o_.max_iterations, std::max(o_.min_iterations, points_only_minimum));
   int it = 0;
   for (; it < o_.max_iterations; ++it) {
     if (it >= min_iterations && it >= required) break;

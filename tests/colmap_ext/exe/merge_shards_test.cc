@@ -325,6 +325,8 @@ TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
       {"cheirality_min_parallax", [](HybridEstimatorOptions* e) { e->cheirality_min_parallax += 0.25; }},
       {"min_iterations", [](HybridEstimatorOptions* e) { e->min_iterations += 1; }},
       {"min_iterations_two_focal_points", [](HybridEstimatorOptions* e) { e->min_iterations_two_focal_points += 1; }},
+      {"min_iterations_shared_focal_points",
+       [](HybridEstimatorOptions* e) { e->min_iterations_shared_focal_points += 1; }},
       {"max_iterations", [](HybridEstimatorOptions* e) { e->max_iterations += 1; }},
       {"confidence", [](HybridEstimatorOptions* e) { e->confidence = 0.99; }},
       {"guided_sampling_fraction", [](HybridEstimatorOptions* e) { e->guided_sampling_fraction = 0.5; }},
