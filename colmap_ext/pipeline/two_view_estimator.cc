@@ -331,7 +331,8 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";cheir="
     << e.sampson_cheirality << "/" << e.cheirality_min_parallax << ";it=" << e.min_iterations << "/"
-    << e.min_iterations_two_focal_points << "/" << e.min_iterations_shared_focal_points << "-" << e.max_iterations << ";conf=" << e.confidence
+    << e.min_iterations_two_focal_points << "/" << e.min_iterations_shared_focal_points << "-" << e.max_iterations
+    << ";conf=" << e.confidence
     << ";guided=" << e.guided_sampling_fraction << ";lo=" << e.num_lo_steps << "/" << e.num_lo_lsq_steps << "/"
     << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/"
     << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.lo_max_lm_iterations_two_focal << "/"

@@ -27,7 +27,8 @@ namespace {
 #define MADSFM_OPTION_FIELDS(X)                                                                                   \
   X(reproj_threshold) X(epipolar_threshold) X(sampson_weight) X(solvers) X(scoring) X(estimate_shift)             \
   X(sampson_cheirality) X(cheirality_min_parallax) X(min_iterations) X(min_iterations_two_focal_points)           \
-  X(min_iterations_shared_focal_points) X(max_iterations) X(confidence) X(guided_sampling_fraction) X(num_lo_steps) X(num_lo_lsq_steps)                 \
+  X(min_iterations_shared_focal_points) X(max_iterations) X(confidence) X(guided_sampling_fraction)               \
+  X(num_lo_steps) X(num_lo_lsq_steps)                                                                             \
   X(lo_threshold_multiplier) X(lo_inner_sample_multiplier) X(lo_lsq_sample_size) X(lo_starting_iterations)        \
   X(alt_basin_lo_margin) X(lo_skip_same_basin) X(planar_twin_min_support) X(low_parallax_sampson_factor)          \
   X(low_parallax_noise_ratio) X(low_parallax_final_reprojection_weight) X(lo_max_lm_iterations)                  \
