@@ -533,13 +533,32 @@ void Engine::LocalOptimize(AffineDepthPose* model, double* score, bool from_poin
       p_.mode == CameraMode::kTwoFocal ? o_.lo_max_lm_iterations_two_focal : o_.lo_max_lm_iterations;
   const double mult = o_.lo_threshold_multiplier;
   const MsacWeights relaxed = w_.Relaxed(mult);
+  // consider(m), then m's inliers under `wi` into *in: one pass over the correspondences when m is scored.
+  auto consider_then_select = [&](const AffineDepthPose& m, const MsacWeights& wi, InlierSets* in) {
+    if (!ShiftsInBound(m)) {
+      ComputeInliers(p_, m, wi, in);
+      return;
+    }
+    const double s = ScoreModelAndComputeInliers(p_, m, w_, wi, in);
+    if (s <= *score) {
+      *score = s;
+      *model = m;
+    }
+  };
   // 1. Least squares on all inliers under the relaxed threshold.
   ComputeInliers(p_, m_init, relaxed, &lo_inliers_);
-  if (Refine(&m_init, lo_inliers_, lo_lm_iterations)) consider(m_init);
-  if (o_.num_lo_steps <= 0) return;
+  const bool refined = Refine(&m_init, lo_inliers_, lo_lm_iterations);
+  if (o_.num_lo_steps <= 0) {
+    if (refined) consider(m_init);
+    return;
+  }
   // 2. Inner rounds on subsets of the inliers of m_init.
   InlierSets base;
-  ComputeInliers(p_, m_init, w_, &base);
+  if (refined) {
+    consider_then_select(m_init, w_, &base);
+  } else {
+    ComputeInliers(p_, m_init, w_, &base);
+  }
   const int num_base = base.Total();
   if (num_base == 0) return;
   const int k_min = std::max(MinimalSampleSize(p_.mode, MinimalSolverKind::kDepth, o_.estimate_shift),
@@ -551,15 +570,19 @@ void Engine::LocalOptimize(AffineDepthPose* model, double* score, bool from_poin
     AffineDepthPose m = m_init;
     DrawSubset(base, inner_size, &lo_subset_);
     if (!Refine(&m, lo_subset_, lo_lm_iterations)) continue;
-    consider(m);
+    // Each fitted model is scored (consider) in the same pass that selects its inliers for the next fit.
+    bool last_fit_ok = true;
     for (int i = 0; i < num_lsq; ++i) {
       const double f = num_lsq > 1 ? static_cast<double>(i) / (num_lsq - 1) : 1.0;
       const MsacWeights wi = w_.Relaxed(mult + (1.0 - mult) * f);  // mult -> 1
-      ComputeInliers(p_, m, wi, &lo_inliers_);
+      consider_then_select(m, wi, &lo_inliers_);
       DrawSubset(lo_inliers_, lsq_size, &lo_subset_);
-      if (!Refine(&m, lo_subset_, lo_lm_iterations)) break;
-      consider(m);
+      if (!Refine(&m, lo_subset_, lo_lm_iterations)) {  // m unchanged, and already considered
+        last_fit_ok = false;
+        break;
+      }
     }
+    if (last_fit_ok) consider(m);
   }
 }
 

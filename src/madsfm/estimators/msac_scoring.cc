@@ -118,4 +118,45 @@ void ComputeInliers(const RelposeProblem& p, const AffineDepthPose& model, const
   }
 }
 
+double ScoreModelAndComputeInliers(const RelposeProblem& p, const AffineDepthPose& model, const MsacWeights& w,
+                                   const MsacWeights& wi, InlierSets* in) {
+  // Errors are capped at the (larger) inlier thresholds: exact below them, so exact below the score's thresholds
+  // too, and >= them above (where the score takes the threshold either way).
+  const double ps2 = w.ParallelSin2(model.f0 * p.pixel_scale0, model.f1 * p.pixel_scale1);
+  const double ps2i = wi.ParallelSin2(model.f0 * p.pixel_scale0, model.f1 * p.pixel_scale1);
+  const ModelResiduals res(model, p.pixel_scale0, p.pixel_scale1, ps2i);
+  in->reproj0.clear();
+  in->reproj1.clear();
+  in->sampson.clear();
+  double score = 0.0;
+  const double* d0 = p.d0.data();
+  const double* d1 = p.d1.data();
+  for (int i = 0; i < p.size(); ++i) {
+    if (w.use_reprojection) {
+      if (d0[i] == d0[i]) {
+        const double e = res.Reprojection01(p.x0[i], p.x1[i], d0[i], wi.reproj_sq);
+        if (e < wi.reproj_sq) in->reproj0.push_back(i);
+        score += std::min(e, w.reproj_sq);
+      }
+      if (d1[i] == d1[i]) {
+        const double e = res.Reprojection10(p.x0[i], p.x1[i], d1[i], wi.reproj_sq);
+        if (e < wi.reproj_sq) in->reproj1.push_back(i);
+        score += std::min(e, w.reproj_sq);
+      }
+    }
+    if (w.use_sampson) {
+      const double e = res.Sampson(p.x0[i], p.x1[i], wi.sampson_sq);
+      double e_score = e;  // SampsonCheiral under the score's parallel tolerance
+      if (e < wi.sampson_sq) {
+        if (!w.cheirality || !res.BehindACamera(p.x0[i], p.x1[i], ps2i)) in->sampson.push_back(i);
+        if (w.cheirality && e < w.sampson_sq && res.BehindACamera(p.x0[i], p.x1[i], ps2)) {
+          e_score = ModelResiduals::kInvalidError;
+        }
+      }
+      score += w.sampson_weight * std::min(e_score, w.sampson_sq);
+    }
+  }
+  return score;
+}
+
 }  // namespace madsfm

@@ -1,7 +1,7 @@
 // The MSAC scoring of the estimator's hot path: the counting variant agrees with ScoreModel and ComputeInliers and
 // only stops early when neither its score nor its count can win; the cheirality of Sampson data is judged only
 // beyond the noise-aware parallax; errors computed against a cap (the search's shortcut) agree with the exact ones
-// wherever the cap matters.
+// wherever the cap matters; the one-pass score and inlier selection of the local optimisation equals the two calls.
 #include "madsfm/estimators/msac_scoring.h"
 
 #include <gtest/gtest.h>
@@ -58,6 +58,47 @@ TEST(ScoreModelCounting, AgreesWithScoreModelAndComputeInliers) {
       EXPECT_LT(s3, s);
     }
   }
+}
+
+// The one-pass score-and-select of the local optimisation equals its two separate calls, for relaxed inlier
+// thresholds, both scoring modes, perturbed models (many errors between the two thresholds) and a parallax tolerance
+// that differs between the two thresholds.
+TEST(ScoreModelAndComputeInliers, EqualsScoreModelThenComputeInliers) {
+  std::mt19937 rng(9);
+  std::normal_distribution<double> n(0.0, 1.0);
+  int between = 0;
+  for (int trial = 0; trial < 10; ++trial) {
+    testing::SolverInstance inst;
+    const RelposeProblem p = NoisyProblem(rng, &inst);
+    for (int k = 0; k < 3; ++k) {
+      AffineDepthPose m = inst.gt;
+      if (k > 0) {
+        const Eigen::Vector3d w(0.005 * k * n(rng), 0.005 * k * n(rng), 0.005 * k * n(rng));
+        m.R = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * m.R;
+        m.t += 0.02 * k * Eigen::Vector3d(n(rng), n(rng), n(rng));
+        m.shift0 += 0.01 * k * n(rng);
+      }
+      HybridEstimatorOptions o;
+      o.cheirality_min_parallax = 3.0;
+      for (ScoringMode mode : {ScoringMode::kHybrid, ScoringMode::kSampsonOnly}) {
+        o.scoring = mode;
+        const MsacWeights w = MsacWeights::FromOptions(o);
+        for (const double factor : {1.0, 2.0, 5.0}) {
+          const MsacWeights wi = w.Relaxed(factor);
+          InlierSets separate, merged, strict;
+          ComputeInliers(p, m, wi, &separate);
+          ComputeInliers(p, m, w, &strict);
+          const double s = ScoreModelAndComputeInliers(p, m, w, wi, &merged);
+          EXPECT_EQ(s, ScoreModel(p, m, w));
+          EXPECT_EQ(merged.reproj0, separate.reproj0);
+          EXPECT_EQ(merged.reproj1, separate.reproj1);
+          EXPECT_EQ(merged.sampson, separate.sampson);
+          between += separate.Total() - strict.Total();
+        }
+      }
+    }
+  }
+  EXPECT_GT(between, 100);  // the relaxed thresholds did select more inliers
 }
 
 TEST(MsacWeights, ParallelToleranceFollowsTheSampsonThresholdAngle) {
