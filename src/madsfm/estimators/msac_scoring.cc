@@ -148,9 +148,12 @@ double ScoreModelAndComputeInliers(const RelposeProblem& p, const AffineDepthPos
       const double e = res.Sampson(p.x0[i], p.x1[i], wi.sampson_sq);
       double e_score = e;  // SampsonCheiral under the score's parallel tolerance
       if (e < wi.sampson_sq) {
-        if (!w.cheirality || !res.BehindACamera(p.x0[i], p.x1[i], ps2i)) in->sampson.push_back(i);
-        if (w.cheirality && e < w.sampson_sq && res.BehindACamera(p.x0[i], p.x1[i], ps2)) {
-          e_score = ModelResiduals::kInvalidError;
+        if (!w.cheirality) {
+          in->sampson.push_back(i);
+        } else {
+          const ModelResiduals::RayPair rays = res.Cheirality(p.x0[i], p.x1[i]);  // once for both tolerances
+          if (!rays.BehindBeyond(ps2i)) in->sampson.push_back(i);
+          if (e < w.sampson_sq && rays.BehindBeyond(ps2)) e_score = ModelResiduals::kInvalidError;
         }
       }
       score += w.sampson_weight * std::min(e_score, w.sampson_sq);

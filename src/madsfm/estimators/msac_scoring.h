@@ -60,20 +60,27 @@ class ModelResiduals {
                         double cap = std::numeric_limits<double>::infinity()) const {
     const double sampson = Sampson(x0, x1, cap);
     if (!(sampson < cap)) return sampson;
-    return BehindACamera(x0, x1, parallel_sin2_) ? kInvalidError : sampson;
+    return Cheirality(x0, x1).BehindBeyond(parallel_sin2_) ? kInvalidError : sampson;
   }
   static constexpr double kParallelSin2 = 1e-6;  // rays within ~0.06 deg of each other (the least judged)
 
-  // The cheirality test of SampsonCheiral with its own parallel tolerance: whether the point triangulated from x0
-  // and x1 lies behind either camera while their rays are further apart than parallel_sin2 (sin^2 of the angle).
-  bool BehindACamera(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1, double parallel_sin2) const {
+  // The cheirality of the point triangulated from x0 and x1, to be judged under one or more parallel tolerances.
+  struct RayPair {
+    bool behind;      // behind either camera
+    double cross_sq;  // |v1 x R v0|^2 = a c - b^2; the squared sine of the rays' angle is cross_sq / (a c)
+    double a, c;      // |v1|^2, |R v0|^2
+    // Behind a camera while the rays are further apart than parallel_sin2 (sin^2 of their angle): SampsonCheiral's
+    // test, with any tolerance.
+    bool BehindBeyond(double parallel_sin2) const { return behind && cross_sq > parallel_sin2 * a * c; }
+  };
+  RayPair Cheirality(const Eigen::Vector2d& x0, const Eigen::Vector2d& x1) const {
     const Eigen::Vector3d v1(x1.x() * inv_f1_, x1.y() * inv_f1_, 1.0);
     const Eigen::Vector3d Rv0 = R_ * Eigen::Vector3d(x0.x() * inv_f0_, x0.y() * inv_f0_, 1.0);
     const double a = v1.squaredNorm(), b = v1.dot(Rv0), c = Rv0.squaredNorm();
     const double e = v1.dot(t_), g = Rv0.dot(t_);
     // lambda1 v1 - lambda0 R v0 = t in the least-squares sense; both numerators carry the sign (det >= 0).
     const double num1 = c * e - b * g, num0 = b * e - a * g;
-    return (num1 < 0.0 || num0 < 0.0) && a * c - b * b > parallel_sin2 * a * c;
+    return {num1 < 0.0 || num0 < 0.0, a * c - b * b, a, c};
   }
 
   // Squared Sampson error; with `cap`, an error of at least cap is returned as cap (see SampsonCheiral).
