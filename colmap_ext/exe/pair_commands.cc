@@ -65,6 +65,9 @@ struct EstimatorFlags {
                        "... with two unknown focal lengths.");
     parser->AddDefault("lo_threshold_multiplier", &options.lo_threshold_multiplier,
                        "Relaxation of the squared thresholds at the start of the local optimisation.");
+    parser->AddDefault("lo_first_fit_sample_size", &options.lo_first_fit_sample_size,
+                       "The local optimisation's first least-squares fit uses a random subset of at most this many "
+                       "of the relaxed inliers (0: all).");
     parser->AddDefault("lo_starting_iterations", &options.lo_starting_iterations,
                        "RANSAC iterations before the first local optimisation.");
     parser->AddDefault("alt_basin_lo_margin", &options.alt_basin_lo_margin,
@@ -84,6 +87,9 @@ struct EstimatorFlags {
                        "... that ratio (noise level: 1.4826 x the inliers' median absolute Sampson error).");
     parser->AddDefault("low_parallax_final_reprojection_weight", &options.low_parallax_final_reprojection_weight,
                        "Hybrid: --final_reprojection_weight where that low-parallax switch was taken (0-1).");
+    parser->AddDefault("mixed_refinement_depth_from_triangulation", &options.mixed_refinement_depth_from_triangulation,
+                       "Hybrid: after that mixed last refinement, the depth corrections start from the priors' fit to "
+                       "the triangulated epipolar inliers (1) or from the refinement's values (0).");
     parser->AddDefault("retry_depth_less", &options.retry_depth_less,
                        "Hybrid: search once more when the result has almost no depth inliers (1) or not (0).");
     parser->AddDefault("scale_only_fallback", &options.scale_only_fallback,

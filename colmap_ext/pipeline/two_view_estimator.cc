@@ -308,7 +308,8 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version changes with the estimator's results ("madsfm-20": shared-focal
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-21": the local
+  // optimisation's first fit on a random subset of at most lo_first_fit_sample_size inliers; "madsfm-20": shared-focal
   // point-only searches run at least min_iterations_shared_focal_points; "madsfm-19": two focal
   // lengths from the epipolar evidence are not taken where a view would lose more than half of its depth inliers;
   // "madsfm-18": the low-parallax mixed last refinement in the focal modes too, the depth corrections after it from
@@ -326,7 +327,7 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
   // deviations stored, the robust last refinement; "madsfm-5": more iterations for two-focal point-only searches;
   // "madsfm-4": the epipolar focal lengths where they are precise; "madsfm-3": other basins' minimal models
   // optimised, depth-less results searched again), so pairs done by an older madsfm are estimated again.
-  s << "madsfm-20;mode=" << o.camera_mode << ";depth=" << depth
+  s << "madsfm-21;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";cheir="
@@ -334,11 +335,11 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     << e.min_iterations_two_focal_points << "/" << e.min_iterations_shared_focal_points << "-" << e.max_iterations
     << ";conf=" << e.confidence
     << ";guided=" << e.guided_sampling_fraction << ";lo=" << e.num_lo_steps << "/" << e.num_lo_lsq_steps << "/"
-    << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/"
+    << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/" << e.lo_first_fit_sample_size << "/"
     << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.lo_max_lm_iterations_two_focal << "/"
     << e.alt_basin_lo_margin << "/" << e.lo_skip_same_basin << "/" << e.planar_twin_min_support
     << ";lowpar=" << e.low_parallax_sampson_factor << "/" << e.low_parallax_noise_ratio << "/"
-    << e.low_parallax_final_reprojection_weight
+    << e.low_parallax_final_reprojection_weight << "/" << e.mixed_refinement_depth_from_triangulation
     << ";final=" << e.final_refinement << "/" << e.final_max_lm_iterations << "/" << e.final_reprojection_weight
     << "/" << e.epipolar_focal_max_sigma << "/" << e.epipolar_focal_wide_sigma << "/" << e.final_cauchy_ratio
     << ";check=" << e.epipolar_check_ratio << "/" << e.retry_depth_less << "/" << e.scale_only_fallback

@@ -29,9 +29,11 @@ namespace {
   X(sampson_cheirality) X(cheirality_min_parallax) X(min_iterations) X(min_iterations_two_focal_points)           \
   X(min_iterations_shared_focal_points) X(max_iterations) X(confidence) X(guided_sampling_fraction)               \
   X(num_lo_steps) X(num_lo_lsq_steps)                                                                             \
-  X(lo_threshold_multiplier) X(lo_inner_sample_multiplier) X(lo_lsq_sample_size) X(lo_starting_iterations)        \
+  X(lo_threshold_multiplier) X(lo_inner_sample_multiplier) X(lo_lsq_sample_size) X(lo_first_fit_sample_size)      \
+  X(lo_starting_iterations)                                                                                       \
   X(alt_basin_lo_margin) X(lo_skip_same_basin) X(planar_twin_min_support) X(low_parallax_sampson_factor)          \
-  X(low_parallax_noise_ratio) X(low_parallax_final_reprojection_weight) X(lo_max_lm_iterations)                  \
+  X(low_parallax_noise_ratio) X(low_parallax_final_reprojection_weight)                                           \
+  X(mixed_refinement_depth_from_triangulation) X(lo_max_lm_iterations)                                            \
   X(lo_max_lm_iterations_two_focal) X(final_refinement) X(final_max_lm_iterations)                                \
   X(final_reprojection_weight) X(epipolar_focal_max_sigma) X(epipolar_focal_wide_sigma) X(final_cauchy_ratio)     \
   X(epipolar_check_ratio) X(retry_depth_less) X(scale_only_fallback) X(max_shift_ratio) X(final_depth_fit)        \

@@ -32,6 +32,8 @@ void HybridEstimatorOptions::Check() const {
           "lo_threshold_multiplier must be >= 1");
   Require(lo_inner_sample_multiplier >= 1, "lo_inner_sample_multiplier must be >= 1");
   Require(lo_lsq_sample_size >= 8, "lo_lsq_sample_size must be >= 8");
+  Require(lo_first_fit_sample_size == 0 || lo_first_fit_sample_size >= 8,
+          "lo_first_fit_sample_size must be 0 (all inliers) or >= 8");
   Require(lo_starting_iterations >= 0, "lo_starting_iterations must be >= 0");
   Require(std::isfinite(alt_basin_lo_margin) && alt_basin_lo_margin >= 0.0, "alt_basin_lo_margin must be >= 0");
   Require(planar_twin_min_support >= 0.0 && planar_twin_min_support <= 1.0,

@@ -303,7 +303,7 @@ void Engine::LeanOnEpipolarEvidence(double reprojection_weight, bool refine_foca
   // is the better start (held-out low parallax calibrated: depth corrections within 1.25x of the oracle's error
   // 40.6% -> 45.7%; docs/benchmarks.md section 11, update of 2026-12-07 (later)). Taken whatever its MSAC score,
   // which always prefers the joint refinement's values.
-  if (!epipolar_only) {
+  if (!epipolar_only && o_.mixed_refinement_depth_from_triangulation) {
     AffineDepthPose fit = *model;
     if (FitDepthInBound(inliers_.sampson, &fit)) {
       *model = fit;
@@ -545,9 +545,15 @@ void Engine::LocalOptimize(AffineDepthPose* model, double* score, bool from_poin
       *model = m;
     }
   };
-  // 1. Least squares on all inliers under the relaxed threshold.
+  // 1. Least squares on the inliers under the relaxed threshold (a random subset of lo_first_fit_sample_size of them).
   ComputeInliers(p_, m_init, relaxed, &lo_inliers_);
-  const bool refined = Refine(&m_init, lo_inliers_, lo_lm_iterations);
+  bool refined;
+  if (o_.lo_first_fit_sample_size > 0 && lo_inliers_.Total() > o_.lo_first_fit_sample_size) {
+    DrawSubset(lo_inliers_, o_.lo_first_fit_sample_size, &lo_subset_);
+    refined = Refine(&m_init, lo_subset_, lo_lm_iterations);
+  } else {
+    refined = Refine(&m_init, lo_inliers_, lo_lm_iterations);
+  }
   if (o_.num_lo_steps <= 0) {
     if (refined) consider(m_init);
     return;

@@ -105,13 +105,17 @@ TEST(FinalCauchy, EpipolarFocalLengthsPulledLess) {
   EXPECT_GE(c.focal_better, 2 * c.focal_worse);
 }
 
+// 120 pairs: whether the Cauchy loss moves a pair's error by 10% is close to a coin flip under uniform noise, and
+// with 30 pairs the count of worse minus better pairs (bound 5) varied by -3 to +7 between ten 30-pair windows of the
+// same generator (300 pairs, seed 920); over those 300 pairs it was 11 (hybrid) and 11 (points), bound 50
+// (docs/benchmarks.md section 11, update of 2026-12-07, evening).
 TEST(FinalCauchy, UniformNoiseCostsNothing) {
-  const std::vector<SyntheticPair> set = GenerateTwoViewSet(*SyntheticPairPreset("hard_indoor_calibrated"), 30, 920);
+  const std::vector<SyntheticPair> set = GenerateTwoViewSet(*SyntheticPairPreset("hard_indoor_calibrated"), 120, 920);
   for (const char* method : {"hybrid", "points"}) {
     const Comparison c = Compare(set, CameraMode::kCalibrated, method);
     std::printf("%s, 0.5-1.5 px: median pose error %.3f -> %.3f deg, %d better, %d worse of %d\n", method,
                 c.median_ls, c.median_cauchy, c.better, c.worse, c.total);
-    ASSERT_GE(c.total, 28);
+    ASSERT_GE(c.total, 112);
     EXPECT_LT(c.median_cauchy, 1.1 * c.median_ls);
     EXPECT_LE(c.worse, c.better + c.total / 6);
   }

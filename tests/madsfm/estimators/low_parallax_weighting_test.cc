@@ -32,7 +32,8 @@ struct SetResult {
 };
 
 SetResult RunSet(const std::vector<SyntheticPair>& set, CameraMode mode, double factor,
-                 double final_reprojection_weight = HybridEstimatorOptions().low_parallax_final_reprojection_weight) {
+                 double final_reprojection_weight = HybridEstimatorOptions().low_parallax_final_reprojection_weight,
+                 bool depth_from_triangulation = true) {
   SetResult out;
   std::vector<double> errors;
   for (const SyntheticPair& s : set) {
@@ -41,6 +42,7 @@ SetResult RunSet(const std::vector<SyntheticPair>& set, CameraMode mode, double 
       o.seed = seed;
       o.low_parallax_sampson_factor = factor;
       o.low_parallax_final_reprojection_weight = final_reprojection_weight;
+      o.mixed_refinement_depth_from_triangulation = depth_from_triangulation;
       PairData pair = s.pair;
       pair.gt_depth0 = s.true_depth_map0;  // for the depth-correction errors
       pair.gt_depth1 = s.true_depth_map1;
@@ -96,17 +98,22 @@ TEST(LowParallaxWeighting, DepthTermsInTheLastRefinementRaiseCalibratedAccuracy)
 }
 
 // The depth corrections after that refinement start from the fit of the priors to the triangulated epipolar inliers,
-// not from the joint refinement's scale and shifts, which drift along the flat directions of a small baseline.
-// Measured on this set (the held-out set of docs/benchmarks.md section 11: seed 7, all matches; 40 pairs x 3 seeds):
-// corrections within 1.25x of the oracle's error on 56 of 120 runs, 50 when they started from the joint refinement's
-// values, 60 with the epipolar-only last refinement.
+// not from the joint refinement's scale and shifts, which drift along the flat directions of a small baseline
+// (HybridEstimatorOptions::mixed_refinement_depth_from_triangulation), compared on the same runs. Measured on this set
+// (the held-out set of docs/benchmarks.md section 11: seed 7, all matches), corrections within 1.25x of the oracle's
+// error: 53 against 45 of these 120 runs; over 30 seeds 46.0% against 41.2%, more in each of the ten 3-seed windows
+// (by 1-8 runs of 120). The share itself moves by 50-59 of 120 between 3-seed windows, so it is not asserted.
 TEST(LowParallaxWeighting, DepthCorrectionsAfterTheMixedLastRefinementStartFromTheTriangulation) {
   const auto set = GenerateTwoViewSet(*SyntheticPairPreset("hard_low_parallax_calibrated"), 40, 7);
-  const SetResult on = RunSet(set, CameraMode::kCalibrated, 0.35);
+  const double weight = HybridEstimatorOptions().low_parallax_final_reprojection_weight;
+  const SetResult on = RunSet(set, CameraMode::kCalibrated, 0.35, weight, true),
+                  off = RunSet(set, CameraMode::kCalibrated, 0.35, weight, false);
   std::printf("held-out hard_low_parallax_calibrated: depth corrections within 1.25x of the oracle's error on %d / %d "
-              "runs\n", on.depth_within_125, on.depth_measured);
+              "runs from the triangulation fit, %d / %d from the refinement's values\n", on.depth_within_125,
+              on.depth_measured, off.depth_within_125, off.depth_measured);
   EXPECT_EQ(on.depth_measured, static_cast<int>(kSeeds * set.size()));
-  EXPECT_GE(on.DepthShare(), 0.45);
+  EXPECT_EQ(off.depth_measured, on.depth_measured);
+  EXPECT_GT(on.depth_within_125, off.depth_within_125);
 }
 
 // Ordinary baselines: the weighting is rarely taken (measured: 0 of 60 runs), and without it the search is the same.
