@@ -335,7 +335,8 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     << e.min_iterations_two_focal_points << "/" << e.min_iterations_shared_focal_points << "-" << e.max_iterations
     << ";conf=" << e.confidence
     << ";guided=" << e.guided_sampling_fraction << ";lo=" << e.num_lo_steps << "/" << e.num_lo_lsq_steps << "/"
-    << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/" << e.lo_first_fit_sample_size << "/"
+    << e.lo_threshold_multiplier << "/" << e.lo_inner_sample_multiplier << "/" << e.lo_lsq_sample_size << "/"
+    << e.lo_first_fit_sample_size << "/"
     << e.lo_starting_iterations << "/" << e.lo_max_lm_iterations << "/" << e.lo_max_lm_iterations_two_focal << "/"
     << e.alt_basin_lo_margin << "/" << e.lo_skip_same_basin << "/" << e.planar_twin_min_support
     << ";lowpar=" << e.low_parallax_sampson_factor << "/" << e.low_parallax_noise_ratio << "/"

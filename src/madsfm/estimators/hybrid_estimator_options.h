@@ -86,8 +86,8 @@ struct HybridEstimatorOptions {
   int lo_lsq_sample_size = 300;
   // The first fit of the local optimisation (least squares on all inliers under the relaxed thresholds) takes a random
   // subset of at most this many of them. Over 20 synthetic sets x 10 seeds x 3 seed offsets, 1000 raised AUC@10
-  // summed over the sets by 5.1 (14 of 20 sets higher, all four low-parallax sets among them) and lowered the time
-  // per pair where the pairs have many matches (docs/benchmarks.md section 11, update of 2026-12-07, evening).
+  // summed over the sets by 5.1 (14 of 20 sets higher, all four low-parallax sets among them) and was 0-5% faster
+  // (docs/benchmarks.md section 11, update of 2026-12-07, evening).
   // 0: all of them.
   int lo_first_fit_sample_size = 1000;
   // RANSAC iterations before the first local optimisation (Lebeda et al.: early best models change too often to
@@ -132,7 +132,7 @@ struct HybridEstimatorOptions {
   // After that mixed last refinement, the depth corrections start from the fit of the priors to the triangulated
   // epipolar inliers (true), not from the joint refinement's scale and shifts (false), which drift along the flat
   // directions of a small baseline. Held-out low parallax calibrated, 30 seeds: within 1.25x of the oracle's error in
-  // 45.7% of runs against 40.6% (docs/benchmarks.md section 11, update of 2026-12-07 (later)).
+  // 46.0% of runs against 41.2% (docs/benchmarks.md section 11, updates of 2026-12-07 (later) and (evening)).
   bool mixed_refinement_depth_from_triangulation = true;
   // Levenberg-Marquardt iterations per least-squares fit of the local optimisation; two focal lengths (11 free
   // parameters, a focal direction the subsets determine poorly) get lo_max_lm_iterations_two_focal. Over 20 synthetic
