@@ -67,7 +67,7 @@ struct EstimatorFlags {
                        "Relaxation of the squared thresholds at the start of the local optimisation.");
     parser->AddDefault("lo_first_fit_sample_size", &options.lo_first_fit_sample_size,
                        "The local optimisation's first least-squares fit uses a random subset of at most this many "
-                       "of the relaxed inliers (0: all).");
+                       "of the relaxed inliers' residual terms (reprojection and Sampson, pooled; 0: all).");
     parser->AddDefault("lo_starting_iterations", &options.lo_starting_iterations,
                        "RANSAC iterations before the first local optimisation.");
     parser->AddDefault("alt_basin_lo_margin", &options.alt_basin_lo_margin,

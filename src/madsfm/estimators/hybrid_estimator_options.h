@@ -85,7 +85,8 @@ struct HybridEstimatorOptions {
   int lo_inner_sample_multiplier = 3;
   int lo_lsq_sample_size = 300;
   // The first fit of the local optimisation (least squares on all inliers under the relaxed thresholds) takes a random
-  // subset of at most this many of them. Over 20 synthetic sets x 10 seeds x 3 seed offsets, 1000 raised AUC@10
+  // subset of at most this many of their residual terms (reprojection in either view and Sampson, pooled as the later
+  // subset fits pool them). Over 20 synthetic sets x 10 seeds x 3 seed offsets, 1000 raised AUC@10
   // summed over the sets by 5.1 (14 of 20 sets higher, all four low-parallax sets among them) and was 0-5% faster
   // (docs/benchmarks.md section 11, update of 2026-12-07, evening).
   // 0: all of them.

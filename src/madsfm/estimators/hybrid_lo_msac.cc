@@ -545,7 +545,8 @@ void Engine::LocalOptimize(AffineDepthPose* model, double* score, bool from_poin
       *model = m;
     }
   };
-  // 1. Least squares on the inliers under the relaxed threshold (a random subset of lo_first_fit_sample_size of them).
+  // 1. Least squares on the inliers under the relaxed threshold (at most lo_first_fit_sample_size of their residual
+  // terms, drawn at random).
   ComputeInliers(p_, m_init, relaxed, &lo_inliers_);
   bool refined;
   if (o_.lo_first_fit_sample_size > 0 && lo_inliers_.Total() > o_.lo_first_fit_sample_size) {
