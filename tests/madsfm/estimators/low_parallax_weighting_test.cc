@@ -28,7 +28,6 @@ struct SetResult {
   double auc10 = 0.0;
   int weighted = 0;  // runs with the low-parallax weighting
   int depth_measured = 0, depth_within_125 = 0;  // runs with depth corrections; those within 1.25x of the oracle's
-  double DepthShare() const { return depth_measured > 0 ? static_cast<double>(depth_within_125) / depth_measured : 0; }
 };
 
 SetResult RunSet(const std::vector<SyntheticPair>& set, CameraMode mode, double factor,
