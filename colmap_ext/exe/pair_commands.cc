@@ -100,6 +100,8 @@ struct EstimatorFlags {
                        "Fit scale and shifts to the final pose by least squares of the depth inliers (1) or not (0).");
     parser->AddDefault("depth_fit_regression", &options.depth_fit_regression,
                        "Then prefer a weighted regression of triangulated depths on the priors (1) or not (0).");
+    parser->AddDefault("low_parallax_depth_fit_regression", &options.low_parallax_depth_fit_regression,
+                       "Hybrid: that regression also after the low-parallax switch (1) or not (0).");
   }
 };
 

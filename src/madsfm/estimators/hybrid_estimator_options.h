@@ -202,6 +202,10 @@ struct HybridEstimatorOptions {
   // alike) and take that fit when it keeps >= 90% of the depth inliers: pixel residuals weigh near points far
   // more than far ones, so the least-squares corrections fit the near surfaces only.
   bool depth_fit_regression = true;
+  // ... also after the low-parallax switch (HybridEstimate::low_parallax_weighting). Off: there the triangulated
+  // depths are too noisy to regress on and the least-squares fit of the reprojection errors is closer to the truth
+  // (docs/benchmarks.md section 11, update of 2026-12-07, night).
+  bool low_parallax_depth_fit_regression = false;
   // The depth corrections count as observable (HybridEstimate::depth_observable) when the standard deviations of
   // shift0 / shift1 (relative to the median prior) and of the scale (relative) are at most this.
   double max_depth_sigma = 0.1;

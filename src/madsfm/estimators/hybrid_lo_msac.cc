@@ -249,7 +249,7 @@ void Engine::FitDepthCorrections(AffineDepthPose* model, double* score, HybridEs
   *model = m;
   *score = s;
   inliers_ = in;
-  if (!o_.depth_fit_regression) return;
+  if (!o_.depth_fit_regression || (result->low_parallax_weighting && !o_.low_parallax_depth_fit_regression)) return;
   // (b) The triangulated epipolar inliers regressed on their priors with weights that treat well-triangulated
   // points alike: pixel residuals weigh near points far more than far ones, so (a) fits the near surfaces and
   // lets the relative error of the far ones grow wherever the priors are not exactly affine. Taken when it keeps

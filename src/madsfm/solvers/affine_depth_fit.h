@@ -28,8 +28,9 @@ bool FitAffineDepthToPose(const std::vector<Eigen::Vector2d>& x0, const std::vec
 // relative residuals with weights 1 / (prior_sigma^2 + (angular_noise / sin(ray angle))^2): the inverse of the
 // variance of a prior's relative misfit plus that of the triangulated depth's relative error. Well-triangulated
 // points count alike (as a fit against true depths would weigh them) and points near infinity hardly at all;
-// a few Huber-reweighted rounds make it robust. Priors are far less noisy than triangulated depths at small
-// parallax, so regressing depths on priors does not dilute the slope as the other direction does.
+// Huber reweighting, iterated until the line settles, makes it robust to wrong triangulated depths (not to grossly
+// wrong priors: they are the regressor). Priors are far less noisy than triangulated depths at small parallax, so
+// regressing depths on priors does not dilute the slope as the other direction does.
 // angular_noise: the matching noise in radians (pixel noise / focal length). Same contract as
 // FitAffineDepthToPose.
 bool FitAffineDepthToPoseWeighted(const std::vector<Eigen::Vector2d>& x0, const std::vector<Eigen::Vector2d>& x1,

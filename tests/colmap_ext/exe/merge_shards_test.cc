@@ -360,6 +360,8 @@ TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
       {"max_shift_ratio", [](HybridEstimatorOptions* e) { e->max_shift_ratio += 1; }},
       {"final_depth_fit", [](HybridEstimatorOptions* e) { e->final_depth_fit = !e->final_depth_fit; }},
       {"depth_fit_regression", [](HybridEstimatorOptions* e) { e->depth_fit_regression = !e->depth_fit_regression; }},
+      {"low_parallax_depth_fit_regression",
+       [](HybridEstimatorOptions* e) { e->low_parallax_depth_fit_regression = !e->low_parallax_depth_fit_regression; }},
       {"max_depth_sigma", [](HybridEstimatorOptions* e) { e->max_depth_sigma *= 2; }},
       {"seed", [](HybridEstimatorOptions* e) { e->seed += 1; }},
   };
