@@ -117,8 +117,9 @@ TEST(LowParallaxWeighting, DepthCorrectionsAfterTheMixedLastRefinementStartFromT
 
 // After the switch the depth corrections are the reprojection fit's: the regression of the triangulated depths on the
 // priors (depth_fit_regression) is skipped, as if it were off; low_parallax_depth_fit_regression takes it there too,
-// which changes some of these runs. Measured on the four low-parallax sets of docs/benchmarks.md section 11 (10 seeds):
-// corrections within 1.25x of the oracle's error on 47.0% of the runs without the regression there, 44.1% with it.
+// which changes some of these runs. Measured on the four low-parallax sets of docs/benchmarks.md section 11 (10 seeds,
+// seed offset 0): corrections within 1.25x of the oracle's error on 47.0% of the runs without the regression there,
+// 44.1% with it (30 reweighting rounds).
 TEST(LowParallaxWeighting, NoDepthRegressionAfterTheSwitch) {
   const auto set = TestSet("hard_low_parallax_calibrated", 10);
   int weighted = 0, same_as_off = 0, changed_with_regression = 0;
