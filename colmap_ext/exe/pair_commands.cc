@@ -102,6 +102,9 @@ struct EstimatorFlags {
                        "Then prefer a weighted regression of triangulated depths on the priors (1) or not (0).");
     parser->AddDefault("low_parallax_depth_fit_regression", &options.low_parallax_depth_fit_regression,
                        "Hybrid: that regression also after the low-parallax switch (1) or not (0).");
+    parser->AddDefault("depth_fit_regression_in_bound", &options.depth_fit_regression_in_bound,
+                       "Where that regression's shift would be beyond --max_shift_ratio, fit it on the bound (1) or "
+                       "drop it (0).");
   }
 };
 

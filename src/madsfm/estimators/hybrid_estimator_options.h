@@ -193,7 +193,8 @@ struct HybridEstimatorOptions {
   // Bound of the shifts: |shift_i| <= max_shift_ratio x the median prior of view i (0: unbounded). A shift of many
   // times the depths themselves flattens the corrected depth map; it only ever appears where the depths are not
   // determined. It holds for every model: depth-solver models beyond it are not scored, depth fits beyond it fall
-  // back to the scale-only fit, and refinement steps beyond it are rejected.
+  // back to the scale-only fit (the final regression to the bound's edge, depth_fit_regression_in_bound), and
+  // refinement steps beyond it are rejected.
   double max_shift_ratio = 5.0;
   // After the pose is final: fit scale, shifts and |t| to it by least squares of the depth inliers' reprojection
   // errors (R and the direction of t fixed), kept when the score does not get worse.
@@ -206,6 +207,12 @@ struct HybridEstimatorOptions {
   // depths are too noisy to regress on and the least-squares fit of the reprojection errors is closer to the truth
   // (docs/benchmarks.md section 11, update of 2026-12-07, night).
   bool low_parallax_depth_fit_regression = false;
+  // Where that regression's shift of a view would be beyond max_shift_ratio, it is fitted within the bound (the best
+  // line on the bound's edge, still subject to the 90% rule) instead of being discarded. The best affine fit of a prior
+  // that hardly correlates with the truth is nearly flat, with a large shift; the edge keeps most of its benefit
+  // (held-out planar shared focal: within 1.25x of the oracle 60.4% -> 73.4%; docs/benchmarks.md section 11, update
+  // of 2026-12-07, late night).
+  bool depth_fit_regression_in_bound = true;
   // The depth corrections count as observable (HybridEstimate::depth_observable) when the standard deviations of
   // shift0 / shift1 (relative to the median prior) and of the scale (relative) are at most this.
   double max_depth_sigma = 0.1;

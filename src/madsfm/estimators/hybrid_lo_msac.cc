@@ -253,10 +253,14 @@ void Engine::FitDepthCorrections(AffineDepthPose* model, double* score, HybridEs
   // (b) The triangulated epipolar inliers regressed on their priors with weights that treat well-triangulated
   // points alike: pixel residuals weigh near points far more than far ones, so (a) fits the near surfaces and
   // lets the relative error of the far ones grow wherever the priors are not exactly affine. Taken when it keeps
-  // at least 90% of (a)'s depth inliers.
+  // at least 90% of (a)'s depth inliers and its shifts are within the bound.
   AffineDepthPose r = *model;
   const double angular_noise = 1.0 / (p_.pixel_scale0 * r.f0);
-  if (!FitDepthParametersWeighted(p_, inliers_.sampson, w_.use_shift, angular_noise, &r)) return;
+  // Beyond the shift bound, the best line on the bound's edge (depth_fit_regression_in_bound) rather than none.
+  const bool in_bound = o_.depth_fit_regression_in_bound && o_.max_shift_ratio > 0.0;
+  const double bound0 = in_bound ? o_.max_shift_ratio * median_prior0_ * (1.0 - 1e-9) : 0.0;
+  const double bound1 = in_bound ? o_.max_shift_ratio * median_prior1_ * (1.0 - 1e-9) : 0.0;
+  if (!FitDepthParametersWeighted(p_, inliers_.sampson, w_.use_shift, angular_noise, &r, bound0, bound1)) return;
   if (o_.max_shift_ratio > 0.0 && (std::abs(r.shift0) > o_.max_shift_ratio * median_prior0_ ||
                                    std::abs(r.shift1) > o_.max_shift_ratio * median_prior1_)) {
     return;

@@ -145,11 +145,12 @@ void GatherNormalised(const RelposeProblem& p, const std::vector<int>& indices, 
 }  // namespace
 
 bool FitDepthParametersWeighted(const RelposeProblem& p, const std::vector<int>& indices, bool shift,
-                                double angular_noise, AffineDepthPose* model) {
+                                double angular_noise, AffineDepthPose* model, double max_shift0,
+                                double max_shift1) {
   std::vector<Eigen::Vector2d> n0, n1;
   std::vector<double> d0, d1;
   GatherNormalised(p, indices, *model, &n0, &n1, &d0, &d1);
-  return FitAffineDepthToPoseWeighted(n0, n1, d0, d1, angular_noise, model, shift);
+  return FitAffineDepthToPoseWeighted(n0, n1, d0, d1, angular_noise, model, shift, 0.03, max_shift0, max_shift1);
 }
 
 bool FitDepthParameters(const RelposeProblem& p, const std::vector<int>& indices, bool shift, AffineDepthPose* model) {

@@ -46,8 +46,10 @@ bool FitDepthParameters(const RelposeProblem& problem, const std::vector<int>& i
                         AffineDepthPose* model);
 
 // The same with FitAffineDepthToPoseWeighted (priors as the regressor, parallax weights): for a final pose.
-// angular_noise: matching noise in radians (e.g. 1 px / focal).
+// angular_noise: matching noise in radians (e.g. 1 px / focal). max_shift0, max_shift1: bounds of |shift| per view
+// in prior units (0: unbounded); beyond them the fit lies on the bound.
 bool FitDepthParametersWeighted(const RelposeProblem& problem, const std::vector<int>& indices, bool shift,
-                                double angular_noise, AffineDepthPose* model);
+                                double angular_noise, AffineDepthPose* model, double max_shift0 = 0.0,
+                                double max_shift1 = 0.0);
 
 }  // namespace madsfm

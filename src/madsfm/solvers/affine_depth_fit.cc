@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "madsfm/geometry/triangulation.h"
 
@@ -84,7 +85,7 @@ constexpr int kMaxHuberRounds = 50;
 
 // Weighted robust fit z ~ alpha d + beta (beta = 0 without shift) over (d, z, w); false when undetermined.
 bool WeightedLineFit(const std::vector<double>& d, const std::vector<double>& z, const std::vector<double>& w,
-                     bool fit_shift, double* alpha, double* beta) {
+                     bool fit_shift, double max_shift, double* alpha, double* beta) {
   const size_t n = d.size();
   if (n < 2) return false;
   std::vector<double> robust(n, 1.0), rel(n);
@@ -109,6 +110,22 @@ bool WeightedLineFit(const std::vector<double>& d, const std::vector<double>& z,
       if (!(sdd > 1e-12 * sw * md * md)) return false;
       a_new = sdz / sdd;
       b_new = mz - a_new * md;
+      if (max_shift > 0.0 && !(a_new > 0.0 && std::abs(b_new) <= max_shift * a_new)) {
+        // Outside the cone of admissible lines: the best line on one of its two edges, z = a (d +- max_shift).
+        double best = std::numeric_limits<double>::infinity();
+        for (double sign : {-1.0, 1.0}) {
+          const double shift = sign * max_shift;
+          double s_uu = 0, s_uz = 0, s_zz = 0;
+          for (size_t i = 0; i < n; ++i) {
+            const double wi = w[i] * robust[i], u = d[i] + shift;
+            s_uu += wi * u * u, s_uz += wi * u * z[i], s_zz += wi * z[i] * z[i];
+          }
+          if (!(s_uu > 0.0)) continue;
+          const double a_edge = s_uz / s_uu, cost = s_zz - s_uz * a_edge;
+          if (a_edge > 0.0 && cost < best) best = cost, a_new = a_edge, b_new = shift * a_edge;
+        }
+        if (!(best < std::numeric_limits<double>::infinity())) return false;
+      }
     } else {
       double sdd = 0, sdz = 0;
       for (size_t i = 0; i < n; ++i) {
@@ -144,7 +161,8 @@ bool WeightedLineFit(const std::vector<double>& d, const std::vector<double>& z,
 
 bool FitAffineDepthToPoseWeighted(const std::vector<Eigen::Vector2d>& x0, const std::vector<Eigen::Vector2d>& x1,
                                   const std::vector<double>& d0, const std::vector<double>& d1, double angular_noise,
-                                  AffineDepthPose* model, bool fit_shift, double prior_sigma) {
+                                  AffineDepthPose* model, bool fit_shift, double prior_sigma, double max_shift0,
+                                  double max_shift1) {
   const double t_norm = model->t.norm();
   if (!(t_norm > 0.0) || !std::isfinite(t_norm) || !model->R.allFinite()) return false;
   const Eigen::Vector3d t_unit = model->t / t_norm;
@@ -165,7 +183,8 @@ bool FitAffineDepthToPoseWeighted(const std::vector<Eigen::Vector2d>& x0, const 
   }
   // z0 = (d0 + shift0) / k: alpha0 = 1 / k, beta0 = shift0 / k; z1 = scale (d1 + shift1) / k likewise.
   double a0, b0, a1, b1;
-  if (!WeightedLineFit(pd0, pz0, pw0, fit_shift, &a0, &b0) || !WeightedLineFit(pd1, pz1, pw1, fit_shift, &a1, &b1)) {
+  if (!WeightedLineFit(pd0, pz0, pw0, fit_shift, max_shift0, &a0, &b0) ||
+      !WeightedLineFit(pd1, pz1, pw1, fit_shift, max_shift1, &a1, &b1)) {
     return false;
   }
   if (!(a0 > 0.0) || !(a1 > 0.0)) return false;

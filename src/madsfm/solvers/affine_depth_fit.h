@@ -31,10 +31,13 @@ bool FitAffineDepthToPose(const std::vector<Eigen::Vector2d>& x0, const std::vec
 // Huber reweighting, iterated until the line settles, makes it robust to wrong triangulated depths (not to grossly
 // wrong priors: they are the regressor). Priors are far less noisy than triangulated depths at small parallax, so
 // regressing depths on priors does not dilute the slope as the other direction does.
-// angular_noise: the matching noise in radians (pixel noise / focal length). Same contract as
-// FitAffineDepthToPose.
+// angular_noise: the matching noise in radians (pixel noise / focal length). max_shift0, max_shift1 (> 0): bounds of
+// |shift0|, |shift1| in prior units; where a view's free line would be beyond its bound (or falls with the priors),
+// each reweighting round takes the better of the two lines on the bound's edge, z = a (d +- max_shift) with a > 0.
+// 0: unbounded. Same contract as FitAffineDepthToPose.
 bool FitAffineDepthToPoseWeighted(const std::vector<Eigen::Vector2d>& x0, const std::vector<Eigen::Vector2d>& x1,
                                   const std::vector<double>& d0, const std::vector<double>& d1, double angular_noise,
-                                  AffineDepthPose* model, bool fit_shift = true, double prior_sigma = 0.03);
+                                  AffineDepthPose* model, bool fit_shift = true, double prior_sigma = 0.03,
+                                  double max_shift0 = 0.0, double max_shift1 = 0.0);
 
 }  // namespace madsfm

@@ -362,6 +362,8 @@ TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
       {"depth_fit_regression", [](HybridEstimatorOptions* e) { e->depth_fit_regression = !e->depth_fit_regression; }},
       {"low_parallax_depth_fit_regression",
        [](HybridEstimatorOptions* e) { e->low_parallax_depth_fit_regression = !e->low_parallax_depth_fit_regression; }},
+      {"depth_fit_regression_in_bound",
+       [](HybridEstimatorOptions* e) { e->depth_fit_regression_in_bound = !e->depth_fit_regression_in_bound; }},
       {"max_depth_sigma", [](HybridEstimatorOptions* e) { e->max_depth_sigma *= 2; }},
       {"seed", [](HybridEstimatorOptions* e) { e->seed += 1; }},
   };

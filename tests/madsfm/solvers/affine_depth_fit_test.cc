@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -150,6 +151,80 @@ TEST(AffineDepthFit, WeightedFitReachesTheHuberFitDespiteGrossDepthErrors) {
   std::printf("[weighted affine fit] recovered to 1e-4 despite 20%% gross depth errors in %d / %d instances (worst "
               "%.2e)\n", ok, kTrials, worst);
   EXPECT_GE(ok, kTrials * 95 / 100);
+}
+
+// Median |(d0 + shift0) / z0 - 1| of view 0, z0 triangulated with the model's R and t (the corrected prior against
+// the depth the model's geometry gives).
+double View0Misfit(const SolverInstance& inst, const AffineDepthPose& m) {
+  std::vector<double> err;
+  for (size_t i = 0; i < inst.x0.size(); ++i) {
+    double z0, z1;
+    if (TriangulateDepths(m.R, m.t, inst.x0[i], inst.x1[i], &z0, &z1)) err.push_back(std::abs(m.Depth0(inst.d0[i]) / z0 - 1.0));
+  }
+  std::nth_element(err.begin(), err.begin() + err.size() / 2, err.end());
+  return err[err.size() / 2];
+}
+
+// A shift bound the truth respects changes nothing: exact priors are recovered as without it.
+TEST(AffineDepthFit, WeightedFitInsideTheShiftBoundIsTheFreeFit) {
+  std::mt19937 rng(9);
+  SolverInstanceOptions opt;
+  opt.num_points = 30;
+  const int kTrials = 200;
+  int ok = 0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    SolverInstance inst = MakeSolverInstance(rng, opt);
+    for (auto& x : inst.x0) x /= inst.gt.f0;
+    for (auto& x : inst.x1) x /= inst.gt.f1;
+    AffineDepthPose model = StartingModel(inst, 1.0);
+    const double b0 = 1.5 * std::abs(inst.gt.shift0) + 1e-3, b1 = 1.5 * std::abs(inst.gt.shift1) + 1e-3;
+    ASSERT_TRUE(FitAffineDepthToPoseWeighted(inst.x0, inst.x1, inst.d0, inst.d1, 1e-3, &model, true, 0.03, b0, b1));
+    if (ModelError(model, inst) < 1e-8) ++ok;
+  }
+  EXPECT_EQ(ok, kTrials);
+}
+
+// Beyond the bound, the regression is the best line on the bound's edge (madsfm-23): |shift| at the bound, on the
+// truth's side, and the corrected priors closer to the triangulated depths than the scale-only fit (shift 0) that
+// depth fits beyond the bound used to fall back to. The other view's fit is not touched.
+TEST(AffineDepthFit, WeightedFitBeyondTheShiftBoundLiesOnItsEdge) {
+  std::mt19937 rng(10);
+  SolverInstanceOptions opt;
+  opt.num_points = 30;
+  opt.depth_noise = 0.01;
+  const int kTrials = 200;
+  int trials = 0, on_edge = 0, truth_side = 0, better_than_scale_only = 0, better_than_cut = 0;
+  while (trials < kTrials) {
+    SolverInstance inst = MakeSolverInstance(rng, opt);
+    if (std::abs(inst.gt.shift0) < 0.2 * inst.median_depth) continue;  // a shift the bound can cut clearly
+    ++trials;
+    for (auto& x : inst.x0) x /= inst.gt.f0;
+    for (auto& x : inst.x1) x /= inst.gt.f1;
+    const double bound0 = 0.5 * std::abs(inst.gt.shift0);
+    AffineDepthPose bounded = StartingModel(inst, 1.0), free = bounded, scale_only = bounded;
+    ASSERT_TRUE(FitAffineDepthToPoseWeighted(inst.x0, inst.x1, inst.d0, inst.d1, 1e-3, &free));
+    ASSERT_TRUE(FitAffineDepthToPoseWeighted(inst.x0, inst.x1, inst.d0, inst.d1, 1e-3, &scale_only, false));
+    ASSERT_TRUE(
+        FitAffineDepthToPoseWeighted(inst.x0, inst.x1, inst.d0, inst.d1, 1e-3, &bounded, true, 0.03, bound0, 0.0));
+    EXPECT_LE(std::abs(bounded.shift0), bound0 * (1.0 + 1e-12));
+    on_edge += std::abs(bounded.shift0) >= bound0 * (1.0 - 1e-9);
+    truth_side += (bounded.shift0 > 0.0) == (inst.gt.shift0 > 0.0);
+    better_than_scale_only += View0Misfit(inst, bounded) < View0Misfit(inst, scale_only);
+    // The free fit with its shift merely cut to the bound is no match for the best line on the edge either.
+    AffineDepthPose cut = free;
+    cut.shift0 = std::copysign(bound0, free.shift0);
+    better_than_cut += View0Misfit(inst, bounded) < View0Misfit(inst, cut);
+    // View 1 is fitted on its own: the same shift and the same |t| / scale as without the bound.
+    EXPECT_NEAR(bounded.shift1, free.shift1, 1e-9 * inst.median_depth);
+    EXPECT_NEAR(bounded.t.norm() / bounded.scale, free.t.norm() / free.scale, 1e-9 * free.t.norm() / free.scale);
+  }
+  std::printf("[weighted affine fit, shift bound at half the true shift] on the edge %d, on the truth's side %d, "
+              "closer than the scale-only fit %d, than the cut free fit %d, of %d\n", on_edge, truth_side,
+              better_than_scale_only, better_than_cut, kTrials);
+  EXPECT_EQ(on_edge, kTrials);
+  EXPECT_GE(truth_side, kTrials * 95 / 100);
+  EXPECT_GE(better_than_scale_only, kTrials * 95 / 100);
+  EXPECT_GE(better_than_cut, kTrials * 95 / 100);
 }
 
 TEST(AffineDepthFit, DegenerateCasesReturnFalse) {
