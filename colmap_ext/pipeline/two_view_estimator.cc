@@ -310,8 +310,8 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
   }
   // Every option that changes a result. The version changes with the estimator's results ("madsfm-23": the
   // regression of triangulated depths on the priors is fitted within the shift bound where it would be beyond it
-  // (depth_fit_regression_in_bound); "madsfm-22": the regression of triangulated depths on the priors iterates its Huber reweighting until it settles and is not taken
-  // after the low-parallax switch (low_parallax_depth_fit_regression); "madsfm-21": the local
+  // (depth_fit_regression_in_bound); "madsfm-22": that regression iterates its Huber reweighting until it settles
+  // and is not taken after the low-parallax switch (low_parallax_depth_fit_regression); "madsfm-21": the local
   // optimisation's first fit on a random subset of at most lo_first_fit_sample_size inliers; "madsfm-20": shared-focal
   // point-only searches run at least min_iterations_shared_focal_points; "madsfm-19": two focal
   // lengths from the epipolar evidence are not taken where a view would lose more than half of its depth inliers;

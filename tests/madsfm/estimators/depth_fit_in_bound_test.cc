@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "madsfm/estimators/pair_evaluation.h"
@@ -40,8 +41,9 @@ TEST(DepthFitInBound, PlanarDepthCorrectionsComeCloserToTheOracle) {
   const uint64_t gen_seed = 2024;
   Counts on, off;
   int changed = 0, runs = 0;
-  for (const auto& [preset, mode] : {std::pair<std::string, CameraMode>{"hard_planar_calibrated", CameraMode::kCalibrated},
-                                     {"hard_planar_shared_focal", CameraMode::kSharedFocal}}) {
+  const std::vector<std::pair<std::string, CameraMode>> presets = {
+      {"hard_planar_calibrated", CameraMode::kCalibrated}, {"hard_planar_shared_focal", CameraMode::kSharedFocal}};
+  for (const auto& [preset, mode] : presets) {
     for (const SyntheticPair& s : TestSet(preset, 20, gen_seed)) {
       PairData pair = s.pair;
       pair.gt_depth0 = s.true_depth_map0;
@@ -62,7 +64,8 @@ TEST(DepthFitInBound, PlanarDepthCorrectionsComeCloserToTheOracle) {
   }
   std::printf("planar calibrated + shared focal (seed %llu), %d runs: depth corrections within 1.25x of the oracle's "
               "error on %d / %d runs with the regression on the bound, %d / %d with it dropped; %d runs changed\n",
-              static_cast<unsigned long long>(gen_seed), runs, on.within, on.measured, off.within, off.measured, changed);
+              static_cast<unsigned long long>(gen_seed), runs, on.within, on.measured, off.within, off.measured,
+              changed);
   EXPECT_EQ(on.measured, off.measured);
   EXPECT_GT(on.within, off.within);
 }

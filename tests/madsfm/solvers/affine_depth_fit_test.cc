@@ -159,7 +159,9 @@ double View0Misfit(const SolverInstance& inst, const AffineDepthPose& m) {
   std::vector<double> err;
   for (size_t i = 0; i < inst.x0.size(); ++i) {
     double z0, z1;
-    if (TriangulateDepths(m.R, m.t, inst.x0[i], inst.x1[i], &z0, &z1)) err.push_back(std::abs(m.Depth0(inst.d0[i]) / z0 - 1.0));
+    if (TriangulateDepths(m.R, m.t, inst.x0[i], inst.x1[i], &z0, &z1)) {
+      err.push_back(std::abs(m.Depth0(inst.d0[i]) / z0 - 1.0));
+    }
   }
   std::nth_element(err.begin(), err.begin() + err.size() / 2, err.end());
   return err[err.size() / 2];
