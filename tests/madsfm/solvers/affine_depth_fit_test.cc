@@ -34,6 +34,12 @@ AffineDepthPose StartingModel(const SolverInstance& inst, double t_length) {
   return m;
 }
 
+// The fits work in normalised coordinates: pixel coordinates divided by the true focal lengths.
+void Normalise(SolverInstance* inst) {
+  for (auto& x : inst->x0) x /= inst->gt.f0;
+  for (auto& x : inst->x1) x /= inst->gt.f1;
+}
+
 void RunRecovery(CameraSetup setup, bool with_shift, bool fit_shift, unsigned seed, const char* label) {
   std::mt19937 rng(seed);
   SolverInstanceOptions opt;
@@ -45,9 +51,7 @@ void RunRecovery(CameraSetup setup, bool with_shift, bool fit_shift, unsigned se
   for (int trial = 0; trial < kTrials; ++trial) {
     opt.num_points = 5 + trial % 16;  // 5..20
     SolverInstance inst = MakeSolverInstance(rng, opt);
-    // The fit works in normalised coordinates.
-    for (auto& x : inst.x0) x /= inst.gt.f0;
-    for (auto& x : inst.x1) x /= inst.gt.f1;
+    Normalise(&inst);
     AffineDepthPose model = StartingModel(inst, trial % 2 ? 1.0 : 17.5);
     ASSERT_TRUE(FitAffineDepthToPose(inst.x0, inst.x1, inst.d0, inst.d1, &model, fit_shift)) << "trial " << trial;
     EXPECT_EQ(model.R, inst.gt.R);
@@ -132,8 +136,7 @@ TEST(AffineDepthFit, WeightedFitReachesTheHuberFitDespiteGrossDepthErrors) {
   double worst = 0.0;
   for (int trial = 0; trial < kTrials; ++trial) {
     SolverInstance inst = MakeSolverInstance(rng, opt);
-    for (auto& x : inst.x0) x /= inst.gt.f0;
-    for (auto& x : inst.x1) x /= inst.gt.f1;
+    Normalise(&inst);
     for (int i = 0; i < opt.num_points; i += 5) {
       // The point moved along the first view's ray: the priors no longer fit its triangulated depths.
       double z0, z1;
@@ -176,8 +179,7 @@ TEST(AffineDepthFit, WeightedFitInsideTheShiftBoundIsTheFreeFit) {
   int ok = 0;
   for (int trial = 0; trial < kTrials; ++trial) {
     SolverInstance inst = MakeSolverInstance(rng, opt);
-    for (auto& x : inst.x0) x /= inst.gt.f0;
-    for (auto& x : inst.x1) x /= inst.gt.f1;
+    Normalise(&inst);
     AffineDepthPose model = StartingModel(inst, 1.0);
     const double b0 = 1.5 * std::abs(inst.gt.shift0) + 1e-3, b1 = 1.5 * std::abs(inst.gt.shift1) + 1e-3;
     ASSERT_TRUE(FitAffineDepthToPoseWeighted(inst.x0, inst.x1, inst.d0, inst.d1, 1e-3, &model, true, 0.03, b0, b1));
@@ -200,8 +202,7 @@ TEST(AffineDepthFit, WeightedFitBeyondTheShiftBoundLiesOnItsEdge) {
     SolverInstance inst = MakeSolverInstance(rng, opt);
     if (std::abs(inst.gt.shift0) < 0.2 * inst.median_depth) continue;  // a shift the bound can cut clearly
     ++trials;
-    for (auto& x : inst.x0) x /= inst.gt.f0;
-    for (auto& x : inst.x1) x /= inst.gt.f1;
+    Normalise(&inst);
     const double bound0 = 0.5 * std::abs(inst.gt.shift0);
     AffineDepthPose bounded = StartingModel(inst, 1.0), free = bounded, scale_only = bounded;
     ASSERT_TRUE(FitAffineDepthToPoseWeighted(inst.x0, inst.x1, inst.d0, inst.d1, 1e-3, &free));
