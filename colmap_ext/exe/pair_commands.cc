@@ -105,6 +105,9 @@ struct EstimatorFlags {
     parser->AddDefault("depth_fit_regression_in_bound", &options.depth_fit_regression_in_bound,
                        "Where that regression's shift would be beyond --max_shift_ratio, fit it on the bound (1) or "
                        "drop it (0).");
+    parser->AddDefault("focal_depth_from_joint", &options.focal_depth_from_joint,
+                       "Focal modes: fit the depth corrections to the joint estimate's pose and focal lengths, before "
+                       "the last epipolar-only refinement moves the pose (1), or to the final pose (0).");
   }
 };
 

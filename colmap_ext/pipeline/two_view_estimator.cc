@@ -308,7 +308,9 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     depth = ec ? o.depth_path : canonical.lexically_normal().string();
     while (depth.size() > 1 && depth.back() == '/') depth.pop_back();
   }
-  // Every option that changes a result. The version changes with the estimator's results ("madsfm-23": the
+  // Every option that changes a result. The version changes with the estimator's results ("madsfm-24": in the focal
+  // modes the depth corrections are fitted to the joint estimate before the last refinement (focal_depth_from_joint);
+  // "madsfm-23": the
   // regression of triangulated depths on the priors is fitted within the shift bound where it would be beyond it
   // (depth_fit_regression_in_bound); "madsfm-22": that regression iterates its Huber reweighting until it settles
   // and is not taken after the low-parallax switch (low_parallax_depth_fit_regression); "madsfm-21": the local
@@ -330,7 +332,7 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
   // deviations stored, the robust last refinement; "madsfm-5": more iterations for two-focal point-only searches;
   // "madsfm-4": the epipolar focal lengths where they are precise; "madsfm-3": other basins' minimal models
   // optimised, depth-less results searched again), so pairs done by an older madsfm are estimated again.
-  s << "madsfm-23;mode=" << o.camera_mode << ";depth=" << depth
+  s << "madsfm-24;mode=" << o.camera_mode << ";depth=" << depth
     << ";depth_type=" << o.depth_type << ";min_inliers=" << o.min_num_inliers << ";tr=" << e.reproj_threshold
     << ";ts=" << e.epipolar_threshold << ";ls=" << e.sampson_weight << ";solvers=" << static_cast<int>(e.solvers)
     << ";scoring=" << static_cast<int>(e.scoring) << ";shift=" << e.estimate_shift << ";cheir="
@@ -348,7 +350,8 @@ std::string OptionsFingerprint(const TwoViewEstimatorOptions& o) {
     << "/" << e.epipolar_focal_max_sigma << "/" << e.epipolar_focal_wide_sigma << "/" << e.final_cauchy_ratio
     << ";check=" << e.epipolar_check_ratio << "/" << e.retry_depth_less << "/" << e.scale_only_fallback
     << ";depth_fit=" << e.max_shift_ratio << "/" << e.final_depth_fit << "/" << e.depth_fit_regression << "/"
-    << e.low_parallax_depth_fit_regression << "/" << e.depth_fit_regression_in_bound << "/" << e.max_depth_sigma
+    << e.low_parallax_depth_fit_regression << "/" << e.depth_fit_regression_in_bound << "/"
+    << e.focal_depth_from_joint << "/" << e.max_depth_sigma
     << ";seed=" << e.seed;
   return s.str();
 }

@@ -38,7 +38,7 @@ namespace {
   X(final_reprojection_weight) X(epipolar_focal_max_sigma) X(epipolar_focal_wide_sigma) X(final_cauchy_ratio)     \
   X(epipolar_check_ratio) X(retry_depth_less) X(scale_only_fallback) X(max_shift_ratio) X(final_depth_fit)        \
   X(depth_fit_regression) X(low_parallax_depth_fit_regression) X(depth_fit_regression_in_bound)                  \
-  X(max_depth_sigma) X(seed)
+  X(focal_depth_from_joint) X(max_depth_sigma) X(seed)
 
 const char* SolverChoiceName(SolverChoice c) {
   switch (c) {

@@ -213,6 +213,15 @@ struct HybridEstimatorOptions {
   // (held-out planar shared focal: within 1.25x of the oracle 60.4% -> 73.4%; docs/benchmarks.md section 11, update
   // of 2026-12-07, late night).
   bool depth_fit_regression_in_bound = true;
+  // Focal modes: the depth corrections (scale, shifts and |t|) are fitted to the joint estimate, the pose and focal
+  // lengths that the depth priors and the matches agreed on, before the last epipolar-only refinement moves the pose
+  // with the focal lengths held. Triangulating with a pose and focal lengths that were not estimated together distorts
+  // the far depths (outdoor shared focal: within 1.25x of the oracle 50% -> 64% development, 58% -> 70% held-out;
+  // docs/benchmarks.md section 11, update of 2026-12-08). The output keeps the refined pose, its focal lengths and its
+  // epipolar inliers. Not where TakeEpipolarFocal replaced the joint focal lengths (the epipolar evidence rejected
+  // them), not after the low-parallax switch (its mixed last refinement takes them from the triangulation fit), nor
+  // in the calibrated mode, where the refined pose with the known focal lengths is the better one.
+  bool focal_depth_from_joint = true;
   // The depth corrections count as observable (HybridEstimate::depth_observable) when the standard deviations of
   // shift0 / shift1 (relative to the median prior) and of the scale (relative) are at most this.
   double max_depth_sigma = 0.1;
@@ -231,7 +240,9 @@ struct HybridEstimate {
   // Inlier masks over all correspondences per data type: reprojection 0->1, 1->0, Sampson.
   std::vector<char> inliers_reproj0, inliers_reproj1, inliers_sampson;
   int num_inliers_reproj0 = 0, num_inliers_reproj1 = 0, num_inliers_sampson = 0;
-  double score = 0.0;  // MSAC score of the model (lower is better)
+  // MSAC score of the model (lower is better). With focal_depth_from_joint in effect, that of its pose and focal
+  // lengths with the depth corrections fitted to them: what the comparisons between searches weigh.
+  double score = 0.0;
   int iterations = 0;
   int num_lo = 0;
   int num_depth_samples = 0, num_point_samples = 0;  // minimal samples drawn per solver

@@ -147,6 +147,8 @@ class Engine {
   void FitDepthCorrections(AffineDepthPose* model, double* score, HybridEstimate* result);
   void LeanOnEpipolarEvidence(double reprojection_weight, bool refine_focal, AffineDepthPose* model, double* score);
   void TakeEpipolarFocal(AffineDepthPose* model, double* score);
+  void DepthCorrectionsOfJointEstimate(AffineDepthPose joint, const InlierSets& joint_inliers, double joint_score,
+                                       AffineDepthPose* model, HybridEstimate* result);
   void FocalSigmas(const AffineDepthPose& model, HybridEstimate* result) const;
   double ParallaxPixels(const AffineDepthPose& model) const;
   bool ParallaxMeasurable(const AffineDepthPose& model) const;
@@ -272,6 +274,43 @@ void Engine::FitDepthCorrections(AffineDepthPose* model, double* score, HybridEs
   *model = r;
   *score = ScoreModel(p_, r, w_);
   inliers_ = rin;
+}
+
+// Focal modes (focal_depth_from_joint): the depth corrections of the joint estimate `joint` (with its inliers and
+// score), FitDepthCorrections on it, carried over to the final model: its rotation, direction of t and focal lengths
+// stay (the same focal lengths as the joint estimate's), and scale, shifts and |t| come from the joint estimate's fit.
+// The last refinement moved the pose with the focal lengths held, and depths triangulated with a pose and focal
+// lengths that were not estimated together are distorted, the far ones most. The final model's epipolar inliers are
+// unchanged and its depth inliers recomputed; its score stays that of the corrections fitted to it (Run).
+void Engine::DepthCorrectionsOfJointEstimate(AffineDepthPose joint, const InlierSets& joint_inliers, double joint_score,
+                                             AffineDepthPose* model, HybridEstimate* result) {
+  // Standard deviations as FitDepthCorrections gives them, from its least squares of the reprojection errors; where
+  // those do not improve the joint estimate's score, at the joint estimate itself.
+  RelposeRefinerOptions ro = RefinerOptions(0);
+  ro.refine_pose = false;
+  ro.refine_focal = false;
+  RelposeRefinerSummary sum;
+  const std::vector<int> none;
+  AffineDepthPose at = joint;
+  HybridEstimate fit;
+  if (RefineRelpose(p_, joint_inliers.reproj0, joint_inliers.reproj1, none, ro, &at, &sum)) {
+    fit.sigma_shift0 = sum.sigma_shift0 / median_prior0_;
+    fit.sigma_shift1 = sum.sigma_shift1 / median_prior1_;
+    fit.sigma_scale = sum.sigma_scale / at.scale;
+  }
+  fit.low_parallax_weighting = result->low_parallax_weighting;
+  inliers_ = joint_inliers;
+  FitDepthCorrections(&joint, &joint_score, &fit);
+  result->sigma_shift0 = fit.sigma_shift0;
+  result->sigma_shift1 = fit.sigma_shift1;
+  result->sigma_scale = fit.sigma_scale;
+  AffineDepthPose m = *model;
+  m.scale = joint.scale;
+  m.shift0 = joint.shift0;
+  m.shift1 = joint.shift1;
+  m.t = model->t.normalized() * joint.t.norm();
+  ComputeInliers(p_, m, w_, &inliers_);
+  *model = m;
 }
 
 // The last refinement with down-weighted reprojection terms (options.final_reprojection_weight, or
@@ -920,6 +959,14 @@ HybridEstimate Engine::Run() {
     const bool low_parallax_mixed = result.low_parallax_weighting;
     const double final_reprojection_weight =
         low_parallax_mixed ? o_.low_parallax_final_reprojection_weight : o_.final_reprojection_weight;
+    // The joint estimate, whose depth corrections the focal modes keep (focal_depth_from_joint). After the
+    // low-parallax switch the mixed last refinement already takes them from the triangulation fit (madsfm-18).
+    const bool depth_from_joint = o_.focal_depth_from_joint && p_.mode != CameraMode::kCalibrated &&
+                                  !low_parallax_mixed && w_.use_reprojection && o_.final_depth_fit;
+    const AffineDepthPose joint = best;
+    const double joint_score = best_score;
+    InlierSets joint_inliers;
+    if (depth_from_joint) joint_inliers = inliers_;
     if (o_.final_refinement && final_reprojection_weight < 1.0 && w_.use_reprojection && w_.use_sampson &&
         !inliers_.sampson.empty()) {
       LeanOnEpipolarEvidence(final_reprojection_weight, !low_parallax_mixed, &best, &best_score);
@@ -933,6 +980,11 @@ HybridEstimate Engine::Run() {
       FitDepthInBound(inliers_.sampson, &best);
     } else if (o_.final_depth_fit) {
       FitDepthCorrections(&best, &best_score, &result);
+      // best_score stays that of this fit: the comparisons with other searches (scale-only fallback, retry) are
+      // between poses, each with the corrections that fit it best.
+      if (depth_from_joint && best.f0 == joint.f0 && best.f1 == joint.f1) {
+        DepthCorrectionsOfJointEstimate(joint, joint_inliers, joint_score, &best, &result);
+      }
     }
     if (p_.mode != CameraMode::kCalibrated) FocalSigmas(best, &result);
     // Without shifts (scale-only model) their sigmas are NaN and only the scale's counts.

@@ -364,6 +364,8 @@ TEST(MergeShards, EveryResultChangingEstimatorOptionChangesTheFingerprint) {
        [](HybridEstimatorOptions* e) { e->low_parallax_depth_fit_regression = !e->low_parallax_depth_fit_regression; }},
       {"depth_fit_regression_in_bound",
        [](HybridEstimatorOptions* e) { e->depth_fit_regression_in_bound = !e->depth_fit_regression_in_bound; }},
+      {"focal_depth_from_joint",
+       [](HybridEstimatorOptions* e) { e->focal_depth_from_joint = !e->focal_depth_from_joint; }},
       {"max_depth_sigma", [](HybridEstimatorOptions* e) { e->max_depth_sigma *= 2; }},
       {"seed", [](HybridEstimatorOptions* e) { e->seed += 1; }},
   };
